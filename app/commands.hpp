@@ -1,0 +1,17 @@
+#pragma once
+// Each subcommand lives in its own app/cmd_*.cpp and registers itself on the root app.
+// A subcommand's callback stores the work to do in `action`; main() runs it after
+// parsing, so exceptions map to SPEC.md exit codes in one place (InputError -> 2).
+#include <CLI/CLI.hpp>
+#include <functional>
+
+namespace luxloc::app {
+
+using Action = std::function<int()>;
+
+void add_run_command(CLI::App& root, Action& action);
+void add_demo_command(CLI::App& root, Action& action);
+void add_sim_command(CLI::App& root, Action& action);
+void add_eval_command(CLI::App& root, Action& action);
+
+}  // namespace luxloc::app

@@ -1,0 +1,46 @@
+#pragma once
+// Counters for what was dropped and why (bad rows, late samples, full queues...).
+// Thread-safe; increments are rare (error paths), so a mutex is fine. The first message
+// of each reason is kept so the end-of-run report can show a concrete example.
+#include <cstdint>
+#include <map>
+#include <mutex>
+#include <string>
+
+namespace luxloc {
+
+class DropCounts {
+ public:
+  struct Entry {
+    std::uint64_t count = 0;
+    std::string first_message;
+  };
+
+  void add(const std::string& reason, const std::string& message = {}, std::uint64_t n = 1) {
+    std::lock_guard lock(mutex_);
+    Entry& e = entries_[reason];
+    if (e.count == 0) e.first_message = message;
+    e.count += n;
+  }
+  std::uint64_t count(const std::string& reason) const {
+    std::lock_guard lock(mutex_);
+    auto it = entries_.find(reason);
+    return it == entries_.end() ? 0 : it->second.count;
+  }
+  std::uint64_t total() const {
+    std::lock_guard lock(mutex_);
+    std::uint64_t n = 0;
+    for (const auto& [k, e] : entries_) n += e.count;
+    return n;
+  }
+  std::map<std::string, Entry> snapshot() const {
+    std::lock_guard lock(mutex_);
+    return entries_;
+  }
+
+ private:
+  mutable std::mutex mutex_;
+  std::map<std::string, Entry> entries_;
+};
+
+}  // namespace luxloc

@@ -1,0 +1,24 @@
+#pragma once
+#include <Eigen/Core>
+#include <limits>
+#include <string>
+
+#include "core/common/time.hpp"
+
+namespace luxloc {
+
+// A fused pose as written to the outputs (SPEC.md "Pose output").
+struct PoseEstimate {
+  TimeNs t = 0;
+  Eigen::Vector3d p_BinW = Eigen::Vector3d::Zero();
+  double yaw = 0.0;    // rad, CCW from east
+  double roll = 0.0;   // rad (from the attitude filter)
+  double pitch = 0.0;  // rad
+  double sigma_x = std::numeric_limits<double>::quiet_NaN();
+  double sigma_y = std::numeric_limits<double>::quiet_NaN();
+  double n_eff = std::numeric_limits<double>::quiet_NaN();
+  int leds = 0;             // LEDs decoded in the last frame
+  std::string mode = "";    // e.g. "fused", "imu-only", "init"
+};
+
+}  // namespace luxloc

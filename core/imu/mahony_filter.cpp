@@ -1,0 +1,92 @@
+#include "core/imu/mahony_filter.hpp"
+
+#include <cmath>
+
+namespace luxloc {
+
+MahonyFilter::MahonyFilter(const MahonyOptions& options) : options_(options) {}
+
+void MahonyFilter::align(const Eigen::Vector3d& acc_inB, const Eigen::Vector3d* mag_inB) {
+  // Accelerometer at rest reads +g along world up: roll and pitch follow (ZYX Euler).
+  const Eigen::Vector3d a = acc_inB.normalized();
+  const double roll = std::atan2(a.y(), a.z());
+  const double pitch = std::atan2(-a.x(), std::sqrt(a.y() * a.y() + a.z() * a.z()));
+  double yaw = 0.0;
+  const Eigen::Matrix3d R_tilt =
+      (Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) * Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()))
+          .toRotationMatrix();
+  if (mag_inB && options_.use_magnetometer && mag_inB->allFinite() && mag_inB->norm() > 1e-6) {
+    // Tilt-compensate: the field in a level frame whose x is body-forward's horizontal part.
+    const Eigen::Vector3d m = R_tilt * *mag_inB;
+    // The horizontal field points north (+y in ENU): the body heading is yaw with
+    // north = R_z(yaw) * m_level  =>  yaw = atan2(m_x, m_y) for m expressed in level body axes.
+    yaw = std::atan2(m.x(), m.y());
+  }
+  q_ = Eigen::Quaterniond(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * Eigen::Quaterniond(R_tilt));
+  q_.normalize();
+  initialized_ = true;
+}
+
+void MahonyFilter::update(const ImuSample& s) {
+  if (!s.acc_inB.allFinite() || !s.gyro_inB.allFinite() || (s.has_mag && !s.mag_inB.allFinite())) {
+    ++rejected_;  // NaN must never reach the attitude
+    return;
+  }
+  if (!initialized_) {
+    align(s.acc_inB, s.has_mag ? &s.mag_inB : nullptr);
+    t_ = t_start_ = s.t;
+    return;
+  }
+  double dt = ns_to_seconds(s.t - t_);
+  if (dt <= 0.0) {
+    ++rejected_;
+    return;
+  }
+  dt = std::min(dt, options_.max_dt_s);
+  t_ = s.t;
+
+  const Eigen::Matrix3d R = q_.toRotationMatrix();
+  Eigen::Vector3d e = Eigen::Vector3d::Zero();
+  const double a_norm = s.acc_inB.norm();
+  if (a_norm > 1e-6 && std::abs(a_norm - options_.gravity) < options_.acc_rejection * options_.gravity) {
+    const Eigen::Vector3d v_up_inB = R.transpose().col(2);  // predicted "up" in body
+    e += (s.acc_inB / a_norm).cross(v_up_inB);
+  }
+  if (s.has_mag && options_.use_magnetometer && s.mag_inB.norm() > 1e-6) {
+    // Reference field: the measured field rotated to the world, its horizontal part put on
+    // north (+y, ENU), so the magnetometer only corrects heading (Mahony 2008, eq. 34).
+    const Eigen::Vector3d m = s.mag_inB.normalized();
+    const Eigen::Vector3d h = R * m;
+    const Eigen::Vector3d b(0.0, std::hypot(h.x(), h.y()), h.z());
+    const Eigen::Vector3d w_inB = R.transpose() * b;
+    // Only the heading part: project the correction on the body's up axis.
+    const Eigen::Vector3d em = m.cross(w_inB);
+    const Eigen::Vector3d up_inB = R.transpose().col(2);
+    e += up_inB * up_inB.dot(em);
+  }
+  const bool converging = ns_to_seconds(s.t - t_start_) < options_.init_duration_s;
+  const double kp = converging ? options_.kp_init : options_.kp;
+  if (!converging) bias_ -= options_.ki * e * dt;  // integral term: - bias estimate
+  const Eigen::Vector3d w = s.gyro_inB - bias_ + kp * e;
+  last_gyro_corrected_ = s.gyro_inB - bias_;
+
+  // q <- q * exp(w dt / 2)
+  const double angle = w.norm() * dt;
+  if (angle > 1e-12) q_ = q_ * Eigen::Quaterniond(Eigen::AngleAxisd(angle, w.normalized()));
+  q_.normalize();
+}
+
+double MahonyFilter::yaw() const {
+  const Eigen::Matrix3d R = q_.toRotationMatrix();
+  return std::atan2(R(1, 0), R(0, 0));
+}
+double MahonyFilter::roll() const {
+  const Eigen::Matrix3d R = q_.toRotationMatrix();
+  return std::atan2(R(2, 1), R(2, 2));
+}
+double MahonyFilter::pitch() const {
+  const Eigen::Matrix3d R = q_.toRotationMatrix();
+  return std::asin(std::clamp(-R(2, 0), -1.0, 1.0));
+}
+
+}  // namespace luxloc

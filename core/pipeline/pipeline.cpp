@@ -1,0 +1,241 @@
+#include "core/pipeline/pipeline.hpp"
+
+#include <limits>
+#include <memory>
+#include <thread>
+
+#include "core/pipeline/spsc_queue.hpp"
+
+namespace luxloc {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Spin briefly, then yield, then sleep: cheap when data is about to arrive, idle otherwise.
+class Backoff {
+ public:
+  void wait() {
+    if (++n_ < 64) return;
+    if (n_ < 256) {
+      std::this_thread::yield();
+      return;
+    }
+    std::this_thread::sleep_for(std::chrono::microseconds(50));
+  }
+  void reset() { n_ = 0; }
+
+ private:
+  unsigned n_ = 0;
+};
+
+struct QueuedSample {
+  Sample sample;
+  Clock::time_point arrival;
+};
+
+struct Lane {
+  explicit Lane(std::size_t capacity) : queue(capacity) {}
+  SpscQueue<QueuedSample> queue;
+  std::atomic<bool> done{false};
+  std::uint64_t fused = 0;  // touched by the fusion thread only
+  DropCounts drops;         // the pipeline's own drops for this source
+  std::string failure;      // written by the source thread before `done`
+};
+
+void shift_time(SensorData& d, TimeNs offset) {
+  std::visit([offset](auto& s) { s.t += offset; }, d);
+}
+
+}  // namespace
+
+Pipeline::Pipeline(std::vector<SourcePtr> sources, std::vector<PoseSinkPtr> sinks, PipelineOptions options)
+    : sources_(std::move(sources)), sinks_(std::move(sinks)), options_(std::move(options)) {}
+
+Pipeline::~Pipeline() = default;
+
+PipelineReport Pipeline::run(FusionStage& stage) {
+  const auto wall0 = Clock::now();
+  const std::size_t n = sources_.size();
+  std::vector<std::unique_ptr<Lane>> lanes;
+  for (std::size_t i = 0; i < n; ++i) lanes.push_back(std::make_unique<Lane>(options_.source_queue_capacity));
+  SpscQueue<PoseEstimate> poses(options_.pose_queue_capacity);
+  std::atomic<bool> fusion_done{false};
+  std::atomic<std::uint64_t> poses_written{0}, poses_dropped{0};
+  std::string sink_failure;
+
+  // --- one thread per source ---
+  std::vector<std::thread> source_threads;
+  for (std::size_t i = 0; i < n; ++i) {
+    source_threads.emplace_back([this, i, &lanes] {
+      Source& src = *sources_[i];
+      Lane& lane = *lanes[i];
+      const TimeNs offset = i < options_.clock_offsets_ns.size() ? options_.clock_offsets_ns[i] : 0;
+      Backoff backoff;
+      try {
+        SensorData d;
+        while (!stop_.load(std::memory_order_relaxed) && src.next(d)) {
+          if (offset != 0) shift_time(d, offset);
+          QueuedSample item{Sample{sample_time(d), static_cast<int>(i), std::move(d)}, Clock::now()};
+          backoff.reset();
+          while (!lane.queue.try_push(std::move(item))) {
+            if (options_.live) {
+              lane.drops.add("queue full", src.name() + ": fusion stage fell behind");
+              break;
+            }
+            if (stop_.load(std::memory_order_relaxed)) break;
+            backoff.wait();
+          }
+          d = SensorData{};
+        }
+        lane.failure = src.failure();
+      } catch (const std::exception& e) {
+        lane.failure = e.what();
+      }
+      lane.done.store(true, std::memory_order_release);
+    });
+  }
+
+  // --- output thread: sinks never run on the fusion thread ---
+  std::thread output_thread([&] {
+    Backoff backoff;
+    auto drain_one = [&]() {
+      std::optional<PoseEstimate> p = poses.try_pop();
+      if (!p) return false;
+      for (auto& sink : sinks_) {
+        try {
+          sink->write(*p);
+        } catch (const std::exception& e) {
+          if (sink_failure.empty()) sink_failure = sink->name() + ": " + e.what();
+        }
+      }
+      poses_written.fetch_add(1, std::memory_order_relaxed);
+      return true;
+    };
+    while (true) {
+      if (drain_one()) {
+        backoff.reset();
+        continue;
+      }
+      if (fusion_done.load(std::memory_order_acquire)) {
+        while (drain_one()) {
+        }
+        break;
+      }
+      backoff.wait();
+    }
+    for (auto& sink : sinks_) {
+      try {
+        sink->flush();
+      } catch (const std::exception& e) {
+        if (sink_failure.empty()) sink_failure = sink->name() + ": " + e.what();
+      }
+    }
+  });
+
+  // --- fusion: merge by timestamp on this thread ---
+  PipelineReport report;
+  std::vector<PoseEstimate> out;
+  auto emit = [&] {
+    for (auto& p : out) {
+      Backoff b;
+      while (!poses.try_push(std::move(p))) {
+        if (options_.live) {
+          poses_dropped.fetch_add(1, std::memory_order_relaxed);
+          break;
+        }
+        b.wait();
+      }
+    }
+    out.clear();
+  };
+  TimeNs last_t = std::numeric_limits<TimeNs>::min();
+  bool have_first = false;
+  TimeNs first_t = 0;
+  Backoff backoff;
+  while (!stop_.load(std::memory_order_relaxed)) {
+    int best = -1;
+    TimeNs best_t = 0;
+    bool waiting = false, any_open = false;
+    for (std::size_t i = 0; i < n; ++i) {
+      Lane& lane = *lanes[i];
+      const bool done = lane.done.load(std::memory_order_acquire);
+      const QueuedSample* head = lane.queue.peek();
+      if (head) {
+        any_open = true;
+        if (best < 0 || head->sample.t < best_t) {
+          best = static_cast<int>(i);
+          best_t = head->sample.t;
+        }
+      } else if (!done) {
+        any_open = true;
+        waiting = true;
+      }
+    }
+    if (!any_open) break;  // every source ended and every queue is empty
+    if (best < 0) {
+      backoff.wait();
+      continue;
+    }
+    if (waiting) {
+      // A source may still deliver something older than `best`.
+      if (!options_.live) {
+        backoff.wait();
+        continue;
+      }
+      const QueuedSample* head = lanes[static_cast<std::size_t>(best)]->queue.peek();
+      if (Clock::now() - head->arrival < options_.reorder_window) {
+        backoff.wait();
+        continue;
+      }
+    }
+    backoff.reset();
+    Lane& lane = *lanes[static_cast<std::size_t>(best)];
+    QueuedSample item = std::move(*lane.queue.try_pop());
+    if (item.sample.t < last_t) {
+      lane.drops.add("late (older than the reorder window)",
+                     sources_[static_cast<std::size_t>(best)]->name() + ": sample " +
+                         std::to_string(ns_to_seconds(last_t - item.sample.t)) + " s behind");
+      continue;
+    }
+    last_t = item.sample.t;
+    if (!have_first) {
+      have_first = true;
+      first_t = item.sample.t;
+    }
+    if (options_.realtime) {
+      std::this_thread::sleep_until(wall0 + std::chrono::nanoseconds(item.sample.t - first_t));
+    }
+    ++lane.fused;
+    stage.process(item.sample, out);
+    emit();
+  }
+  report.stopped = stop_.load(std::memory_order_relaxed);
+  stage.finish(out);
+  emit();
+  fusion_done.store(true, std::memory_order_release);
+
+  // Unblock and join the sources (live ones may sit in a blocking read).
+  if (report.stopped)
+    for (auto& s : sources_) s->request_stop();
+  for (auto& t : source_threads) t.join();
+  output_thread.join();
+
+  for (std::size_t i = 0; i < n; ++i) {
+    SourceReport sr;
+    sr.name = sources_[i]->name();
+    sr.samples = lanes[i]->fused;
+    sr.drops = sources_[i]->drops().snapshot();
+    for (auto& [k, e] : lanes[i]->drops.snapshot()) sr.drops[k] = e;
+    sr.failure = lanes[i]->failure;
+    report.sources.push_back(std::move(sr));
+  }
+  report.poses = poses_written.load();
+  report.poses_dropped = poses_dropped.load();
+  report.first_t = first_t;
+  report.last_t = have_first ? last_t : first_t;
+  report.wall_s = std::chrono::duration<double>(Clock::now() - wall0).count();
+  if (!sink_failure.empty()) throw std::runtime_error("output failed: " + sink_failure);
+  return report;
+}
+
+}  // namespace luxloc

@@ -1,0 +1,76 @@
+#pragma once
+// The streaming pipeline: every source on its own thread feeding a bounded lock-free SPSC
+// queue; one fusion thread merging the queues in timestamp order; one output thread
+// draining the poses to the sinks, so a slow sink never blocks the filter.
+//
+// Ordering: in playback every source is already time-ordered, so the merger waits until
+// each live queue has a head item (or its source has ended) and takes the oldest: exact
+// order. Live sources cannot be waited on forever: the merger waits at most the reorder
+// window for a silent source, then moves on; a sample that arrives older than what was
+// already fused is dropped and counted ("late").
+#include <atomic>
+#include <chrono>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "core/common/drop_counts.hpp"
+#include "core/pipeline/fusion_stage.hpp"
+#include "core/pipeline/pose_sink.hpp"
+#include "core/pipeline/source.hpp"
+
+namespace luxloc {
+
+struct PipelineOptions {
+  std::size_t source_queue_capacity = 256;
+  std::size_t pose_queue_capacity = 16384;
+  // Live: how long (wall clock) the merger waits for a silent source before going on.
+  std::chrono::milliseconds reorder_window{60};
+  // Live mode: a full queue drops (counted) instead of making the producer wait.
+  bool live = false;
+  // Pace playback at the recorded speed.
+  bool realtime = false;
+  // Per-source clock offsets (ns), added to every sample's time (indexed like sources;
+  // missing entries are 0). E.g. the camera-IMU time offset.
+  std::vector<TimeNs> clock_offsets_ns;
+};
+
+struct SourceReport {
+  std::string name;
+  std::uint64_t samples = 0;  // handed to the fusion stage
+  std::map<std::string, DropCounts::Entry> drops;  // source's own and the pipeline's
+  std::string failure;
+};
+
+struct PipelineReport {
+  std::vector<SourceReport> sources;
+  std::uint64_t poses = 0;
+  std::uint64_t poses_dropped = 0;
+  TimeNs first_t = 0, last_t = 0;  // span of fused samples
+  double wall_s = 0.0;
+  bool stopped = false;  // stop() was called (signal)
+  double data_span_s() const { return ns_to_seconds(last_t - first_t); }
+};
+
+class Pipeline {
+ public:
+  Pipeline(std::vector<SourcePtr> sources, std::vector<PoseSinkPtr> sinks, PipelineOptions options);
+  ~Pipeline();
+  Pipeline(const Pipeline&) = delete;
+  Pipeline& operator=(const Pipeline&) = delete;
+
+  // Runs to the end of every source (or until stop()); the fusion stage runs on the calling
+  // thread. Every pose the stage produced before the end is written and flushed.
+  PipelineReport run(FusionStage& stage);
+  // Thread-safe and async-signal-safe (sets an atomic flag only).
+  void stop() { stop_.store(true, std::memory_order_relaxed); }
+  const std::vector<SourcePtr>& sources() const { return sources_; }
+
+ private:
+  std::vector<SourcePtr> sources_;
+  std::vector<PoseSinkPtr> sinks_;
+  PipelineOptions options_;
+  std::atomic<bool> stop_{false};
+};
+
+}  // namespace luxloc

@@ -1,0 +1,34 @@
+#pragma once
+// Calibrated rolling-shutter camera (SPEC.md "Camera file"): OpenCV pinhole intrinsics
+// with the (k1, k2, p1, p2, k3) distortion model, row readout time, exposure, and the
+// mounting on the body (R_CtoB = SPEC's R_body_camera: columns are camera axes in body).
+#include <Eigen/Core>
+#include <array>
+#include <string>
+
+namespace luxloc {
+
+struct CameraModel {
+  int width = 640;
+  int height = 480;
+  double fx = 500, fy = 500, cx = 320, cy = 240;
+  std::array<double, 5> dist{0, 0, 0, 0, 0};  // k1 k2 p1 p2 k3
+  double row_time_s = 30e-6;                  // rolling-shutter line readout time
+  double exposure_s = 100e-6;
+  Eigen::Matrix3d R_CtoB = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d p_CinB = Eigen::Vector3d::Zero();
+
+  // Reads camera.yaml; throws InputError naming the file and key.
+  static CameraModel load(const std::string& path);
+  void save(const std::string& path) const;
+
+  // Camera-frame point -> distorted pixel. False when the point is behind the camera.
+  bool project(const Eigen::Vector3d& p_inC, Eigen::Vector2d& uv) const;
+  // Distorted pixel -> unit bearing in the camera frame (iterative undistortion).
+  Eigen::Vector3d bearing(const Eigen::Vector2d& uv) const;
+  bool has_distortion() const;
+  // Time of the exposure start of image row v after the frame time (row 0).
+  double row_offset_s(double v) const { return v * row_time_s; }
+};
+
+}  // namespace luxloc
