@@ -1,0 +1,226 @@
+#include "app/run_session.hpp"
+
+#include <atomic>
+#include <csignal>
+#include <iomanip>
+#include <memory>
+#include <ostream>
+#include <tbb/global_control.h>
+
+#include "core/common/input_error.hpp"
+#include "core/filter/filter_factory.hpp"
+#include "plugins/output/pose_file_sinks.hpp"
+#include "plugins/output/udp_pose_sink.hpp"
+#include "plugins/playback/playback_session.hpp"
+#include "plugins/live_sources.hpp"
+#include "plugins/source_spec.hpp"
+
+namespace luxloc::app {
+namespace {
+
+std::atomic<Pipeline*> g_running{nullptr};
+
+extern "C" void on_stop_signal(int) {
+  if (Pipeline* p = g_running.load()) p->stop();  // an atomic store: async-signal-safe
+}
+
+// Installs the handlers for the lifetime of a run and restores the old ones after.
+class StopSignals {
+ public:
+  explicit StopSignals(Pipeline& p) {
+    g_running.store(&p);
+    old_int_ = std::signal(SIGINT, on_stop_signal);
+    old_term_ = std::signal(SIGTERM, on_stop_signal);
+  }
+  ~StopSignals() {
+    std::signal(SIGINT, old_int_);
+    std::signal(SIGTERM, old_term_);
+    g_running.store(nullptr);
+  }
+  StopSignals(const StopSignals&) = delete;
+  StopSignals& operator=(const StopSignals&) = delete;
+
+ private:
+  void (*old_int_)(int) = SIG_DFL;
+  void (*old_term_)(int) = SIG_DFL;
+};
+
+double parse_seconds(const std::string& s, const std::string& what) {
+  try {
+    std::size_t used = 0;
+    const double v = std::stod(s, &used);
+    if (used != s.size() || !std::isfinite(v)) throw std::invalid_argument(s);
+    return v;
+  } catch (const std::exception&) {
+    throw InputError("--clock-offset", 0, "--clock-offset", "'" + what + "': '" + s + "' is not a number of seconds");
+  }
+}
+
+}  // namespace
+
+void add_run_options(CLI::App* sub, RunConfig& cfg) {
+  sub->add_option("--source", cfg.sources,
+                  "sensor source KIND:TARGET[,key=value...] (repeatable); kinds: playback:DIR")
+      ->type_name("SPEC");
+  sub->add_option("--playback", cfg.playback, "play back a session folder (SPEC.md layout)")->type_name("DIR");
+  sub->add_option("--map", cfg.map, "LED map (default: the session's ledmap.yaml)")->type_name("FILE");
+  sub->add_option("--camera", cfg.camera, "camera file (default: the session's camera.yaml)")->type_name("FILE");
+  sub->add_option("--filter", cfg.fusion.filter, "fusion filter (pf = seed A's SIR particle filter)")
+      ->check(CLI::IsMember(filter_names()))
+      ->capture_default_str();
+  sub->add_option("--particles", cfg.fusion.pf.particles, "number of particles")
+      ->check(CLI::Range(10, 10'000'000))
+      ->capture_default_str();
+  sub->add_option("--coupling", cfg.coupling,
+                  "VLC coupling: tight (weigh particles by each LED's reprojection error) | loose (seed A: "
+                  "one position fix per frame)")
+      ->check(CLI::IsMember({"tight", "loose"}))
+      ->capture_default_str();
+  sub->add_option("--resampling", cfg.resampling, "systematic | stratified | multinomial | residual")
+      ->check(CLI::IsMember({"systematic", "stratified", "multinomial", "residual"}))
+      ->capture_default_str();
+  sub->add_option("--resample-threshold", cfg.fusion.pf.resample_threshold,
+                  "resample when n_eff < threshold * N")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  sub->add_flag("--resample-every-fix", cfg.fusion.pf.resample_every_correction,
+                "resample after every correction (seed A, S303)");
+  sub->add_option("--seed", cfg.fusion.pf.seed, "random seed (runs are deterministic for a seed)")
+      ->capture_default_str();
+  sub->add_option("--device-height", cfg.fusion.device_height_m,
+                  "device height above the floor, m (default: session.yaml's device_height_m, else 1.0)");
+  sub->add_option("--out", cfg.out, "pose file ('-' = stdout; default stdout when no --udp)")->type_name("FILE");
+  sub->add_option("--format", cfg.format, "pose file format: csv | tum")
+      ->check(CLI::IsMember({"csv", "tum"}))
+      ->capture_default_str();
+  sub->add_option("--udp", cfg.udp, "stream poses as JSON datagrams to HOST:PORT (repeatable)")
+      ->type_name("HOST:PORT");
+  sub->add_option("--output-rate", cfg.fusion.output_rate_hz, "pose output rate, Hz (0 = every IMU sample)")
+      ->check(CLI::Range(0.0, 10000.0))
+      ->capture_default_str();
+  sub->add_flag("--realtime", cfg.realtime, "pace playback at the recorded speed");
+  sub->add_option("--threads", cfg.threads, "worker threads for the filter (0 = all cores)")
+      ->check(CLI::Range(0, 1024))
+      ->capture_default_str();
+  sub->add_option("--clock-offset", cfg.clock_offsets,
+                  "add SECONDS to every time stamp of a source (e.g. frames=-0.012 for a camera-IMU offset)")
+      ->type_name("SOURCE=SECONDS");
+  sub->add_option("--ahrs-kp", cfg.fusion.ahrs.kp, "Mahony proportional gain (trust in gravity/north vs gyro)")
+      ->check(CLI::Range(0.0, 100.0))
+      ->capture_default_str();
+  sub->add_option("--ahrs-ki", cfg.fusion.ahrs.ki, "Mahony integral gain (gyro bias learning)")
+      ->check(CLI::Range(0.0, 10.0))
+      ->capture_default_str();
+  sub->add_flag("--no-accelerometer", [&cfg](std::int64_t) { cfg.fusion.use_accelerometer = false; },
+                "constant-velocity prediction (ignore the accelerometer)");
+  sub->add_flag("-q,--quiet", cfg.quiet, "no report on stderr");
+}
+
+RunOutcome run_session(const RunConfig& cfg, std::ostream& log) {
+  std::unique_ptr<tbb::global_control> threads;
+  if (cfg.threads > 0)
+    threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                    static_cast<std::size_t>(cfg.threads));
+  RunConfig c = cfg;
+  c.fusion.pf.scheme = parse_resampling_scheme(cfg.resampling);
+  c.fusion.tight_coupling = cfg.coupling == "tight";
+
+  // Sources.
+  std::vector<std::string> playback_dirs;
+  std::vector<SourcePtr> live;
+  if (!c.playback.empty()) playback_dirs.push_back(c.playback);
+  for (const auto& text : c.sources) {
+    const SourceSpec spec = SourceSpec::parse(text);
+    if (spec.kind == "playback")
+      playback_dirs.push_back(spec.target);
+    else
+      live.push_back(make_live_source(spec));
+  }
+  if (playback_dirs.empty() && live.empty())
+    throw InputError("run", 0, "--playback", "no source: give --playback DIR or --source KIND:TARGET");
+  if (playback_dirs.size() > 1) throw InputError("run", 0, "--playback", "one playback session per run");
+
+  PlaybackOptions popt;
+  popt.map_path = c.map;
+  popt.camera_path = c.camera;
+  PlaybackSession session;
+  if (!playback_dirs.empty()) {
+    session = open_playback(playback_dirs.front(), popt);
+  } else {
+    if (!c.map.empty()) session.map = LedMap::load(c.map, popt.map_options);
+    if (!c.camera.empty()) session.camera = CameraModel::load(c.camera);
+  }
+  const bool any_live = !live.empty();
+  for (auto& s : live) session.sources.push_back(std::move(s));
+  if (!session.map) log << "luxloc: note: no LED map: camera frames will be ignored\n";
+  if (!session.camera) log << "luxloc: note: no camera file: camera frames will be ignored\n";
+
+  PipelineOptions pipe_opt;
+  pipe_opt.realtime = c.realtime;
+  pipe_opt.live = any_live;
+  pipe_opt.clock_offsets_ns.assign(session.sources.size(), 0);
+  for (const auto& co : c.clock_offsets) {
+    const auto eq = co.find('=');
+    if (eq == std::string::npos)
+      throw InputError("--clock-offset", 0, "--clock-offset", "'" + co + "': expected SOURCE=SECONDS");
+    const std::string name = co.substr(0, eq);
+    const double s = parse_seconds(co.substr(eq + 1), co);
+    bool found = false;
+    for (std::size_t i = 0; i < session.sources.size(); ++i) {
+      const std::string sn = session.sources[i]->name();
+      if (sn == name || sn.rfind(name, 0) == 0) {
+        pipe_opt.clock_offsets_ns[i] = seconds_to_ns(s);
+        found = true;
+      }
+    }
+    if (!found) throw InputError("--clock-offset", 0, "--clock-offset", "'" + co + "': no source named '" + name + "'");
+  }
+
+  // Sinks.
+  std::vector<PoseSinkPtr> sinks;
+  const std::string out = c.out.empty() && c.udp.empty() ? "-" : c.out;
+  if (!out.empty()) sinks.push_back(make_pose_file_sink(out, parse_pose_format(c.format)));
+  for (const auto& u : c.udp) sinks.push_back(std::make_unique<UdpPoseSink>(u));
+
+  FusionEngine engine(c.fusion, session.map, session.camera, session.config);
+  Pipeline pipeline(std::move(session.sources), std::move(sinks), pipe_opt);
+  RunOutcome outcome;
+  {
+    StopSignals signals(pipeline);
+    outcome.pipeline = pipeline.run(engine);
+  }
+  outcome.fusion = engine.stats();
+  outcome.groundtruth = session.groundtruth;
+  for (const auto& s : outcome.pipeline.sources)
+    if (!s.failure.empty()) outcome.failures += s.name + ": " + s.failure + "\n";
+  if (!c.quiet) print_report(outcome, log);
+  return outcome;
+}
+
+void print_report(const RunOutcome& r, std::ostream& log) {
+  const auto& p = r.pipeline;
+  log << std::fixed << std::setprecision(2);
+  log << "luxloc: " << (p.stopped ? "stopped" : "done") << ": " << p.poses << " poses over " << p.data_span_s()
+      << " s of data in " << p.wall_s << " s wall (" << (p.wall_s > 0 ? p.data_span_s() / p.wall_s : 0.0)
+      << "x real time)\n";
+  for (const auto& s : p.sources) {
+    log << "  source " << s.name << ": " << s.samples << " samples";
+    for (const auto& [reason, e] : s.drops) log << ", " << e.count << " skipped (" << reason << ")";
+    log << "\n";
+    for (const auto& [reason, e] : s.drops)
+      if (!e.first_message.empty()) log << "    first " << reason << ": " << e.first_message << "\n";
+    if (!s.failure.empty()) log << "    FAILED: " << s.failure << "\n";
+  }
+  const FusionStats& f = r.fusion;
+  log << "  fusion: imu " << f.imu_samples << " (" << f.imu_rejected << " rejected), frames " << f.frames << " ("
+      << f.frames_with_leds << " with LEDs, " << f.leds_decoded << " LEDs identified, " << f.blobs_rejected
+      << " blobs refused), fixes " << f.fixes_accepted << " used / " << f.fixes_gated << " gated, "
+      << f.reinitializations << " re-initialisations";
+  if (f.frames_without_attitude) log << ", " << f.frames_without_attitude << " frames before the IMU aligned";
+  if (f.other_samples) log << ", " << f.other_samples << " samples of kinds this filter does not use";
+  log << "\n";
+  if (p.poses_dropped) log << "  outputs: " << p.poses_dropped << " poses dropped (output too slow)\n";
+  log.unsetf(std::ios::floatfield);
+}
+
+}  // namespace luxloc::app

@@ -1,0 +1,218 @@
+#include "core/fusion/fusion_engine.hpp"
+
+#include "core/filter/filter_factory.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace luxloc {
+namespace {
+
+template <class... Ts>
+struct Overloaded : Ts... {
+  using Ts::operator()...;
+};
+
+}  // namespace
+
+FusionEngine::FusionEngine(const FusionOptions& options, const std::optional<LedMap>& map,
+                           const std::optional<CameraModel>& camera, const SessionConfig& session)
+    : options_(options), ahrs_(options.ahrs) {
+  device_height_m_ = std::isfinite(options.device_height_m) ? options.device_height_m
+                     : std::isfinite(session.device_height_m) ? session.device_height_m
+                                                              : 1.0;
+  filter_ = make_planar_filter(FilterSettings{options.filter, options.pf});
+  pf_ = dynamic_cast<ParticleFilter*>(filter_.get());
+  if (map && camera && !map->empty()) {
+    vlc_ = std::make_unique<VlcFrontend>(*camera, *map, options_, device_height_m_);
+    double z = 0.0;
+    for (const Led& l : map->leds()) z += l.p_inW.z();
+    ceiling_distance_m_ = std::max(0.5, z / static_cast<double>(map->size()) - device_height_m_);
+    focal_px_ = 0.5 * (camera->fx + camera->fy);
+  }
+}
+
+FusionEngine::~FusionEngine() = default;
+
+void FusionEngine::process(const Sample& sample, std::vector<PoseEstimate>& out) {
+  std::visit(Overloaded{
+                 [&](const ImuSample& s) { on_imu(s, out); },
+                 [&](const FrameSample& s) {
+                   if (options_.use_vlc) on_frame(s, out);
+                 },
+                 [&](const FixSample& s) {
+                   if (options_.use_fixes) on_fix(s, out);
+                 },
+                 [&](const auto&) { ++stats_.other_samples; },
+             },
+             sample.data);
+  // Frames cannot wait for an IMU sample forever (IMU dropout): apply them late.
+  const TimeNs hold = seconds_to_ns(options_.max_frame_hold_s);
+  while (!pending_frames_.empty() && sample.t - pending_frames_.front().t_obs > hold) {
+    apply_frame(pending_frames_.front());
+    pending_frames_.pop_front();
+  }
+}
+
+void FusionEngine::finish(std::vector<PoseEstimate>& out) {
+  while (!pending_frames_.empty()) {
+    apply_frame(pending_frames_.front());
+    pending_frames_.pop_front();
+  }
+  if (filter_->initialized() && have_imu_) emit(t_imu_, out, true);
+}
+
+void FusionEngine::predict_to(TimeNs t) {
+  if (!filter_->initialized()) {
+    t_filter_ = t;
+    return;
+  }
+  if (t <= t_filter_) return;
+  MotionInput u;
+  u.dt = ns_to_seconds(t - t_filter_);
+  u.has_acc = options_.use_accelerometer && options_.use_imu && acc_valid_;
+  u.acc_inW = acc_inW_;
+  filter_->predict(u);
+  t_filter_ = t;
+}
+
+void FusionEngine::on_imu(const ImuSample& s, std::vector<PoseEstimate>& out) {
+  ++stats_.imu_samples;
+  if (!s.acc_inB.allFinite() || !s.gyro_inB.allFinite() || (have_imu_ && s.t <= t_imu_)) {
+    ++stats_.imu_rejected;
+    return;
+  }
+  const bool first = !have_imu_;
+  // The accelerometer is a gravity reference only without motion: remove the centripetal
+  // acceleration omega x v (body frame) that turns add, using the filter's velocity, so a
+  // walker's turns do not tilt the attitude (and with it every VLC bearing).
+  ImuSample compensated = s;
+  if (options_.compensate_centripetal && ahrs_.initialized() && filter_->initialized()) {
+    const PlanarEstimate e = filter_->estimate();
+    if (e.valid) {
+      const Eigen::Vector3d v_inB = ahrs_.R_BtoW().transpose() * Eigen::Vector3d(e.v.x(), e.v.y(), 0.0);
+      compensated.acc_inB -= (s.gyro_inB - ahrs_.gyro_bias()).cross(v_inB);
+    }
+  }
+  ahrs_.update(compensated);
+  if (ahrs_.initialized()) {
+    const Eigen::Vector3d a_inW = ahrs_.R_BtoW() * s.acc_inB - Eigen::Vector3d(0, 0, options_.ahrs.gravity);
+    acc_inW_ = a_inW.head<2>();
+    acc_valid_ = std::isfinite(acc_inW_.squaredNorm());
+  }
+  have_imu_ = true;
+  t_imu_ = s.t;
+  if (first && !filter_->initialized()) t_filter_ = s.t;
+  // Corrections from frames exposed before this sample, each at its own time.
+  while (!pending_frames_.empty() && pending_frames_.front().t_obs <= s.t) {
+    predict_to(pending_frames_.front().t_obs);
+    apply_frame(pending_frames_.front());
+    pending_frames_.pop_front();
+  }
+  predict_to(s.t);
+  emit(s.t, out, false);
+}
+
+void FusionEngine::on_frame(const FrameSample& s, std::vector<PoseEstimate>&) {
+  ++stats_.frames;
+  if (!vlc_) return;
+  DecodedFrame f = vlc_->decode(s);
+  stats_.blobs_rejected += static_cast<std::uint64_t>(f.rejected);
+  last_leds_ = f.leds;
+  if (f.leds == 0) return;
+  ++stats_.frames_with_leds;
+  stats_.leds_decoded += static_cast<std::uint64_t>(f.leds);
+  pending_frames_.push_back(std::move(f));
+}
+
+void FusionEngine::apply_frame(const DecodedFrame& f) {
+  if (!ahrs_.initialized()) {
+    ++stats_.frames_without_attitude;
+    return;
+  }
+  const Eigen::Matrix3d R_BtoW = ahrs_.R_BtoW();
+  if (pf_ && pf_->initialized() && options_.tight_coupling) {
+    // Tight coupling: weigh every particle by the reprojection error of every LED.
+    const ReprojectionLikelihood lik = vlc_->likelihood(f, R_BtoW);
+    if (lik.size() == 0) return;
+    ++stats_.vlc_fixes;
+    // Gate: the mean particle's reprojection error, in metres at the ceiling distance,
+    // against the filter's spread. Persistent disagreement means the filter lost track.
+    const PlanarEstimate e = pf_->estimate();
+    const double rms_m = lik.rms_px(e.p.x(), e.p.y()) * vlc_ceiling_distance() / vlc_focal_px();
+    const double allowed = options_.tight_gate_m + 3.0 * std::sqrt(e.cov_p.trace());
+    if (rms_m <= allowed && pf_->weigh(lik) && pf_->normalize_and_resample()) {
+      ++stats_.fixes_accepted;
+      consecutive_gated_ = 0;
+      t_last_fix_ = f.t_obs;
+      return;
+    }
+    ++stats_.fixes_gated;
+    if (++consecutive_gated_ < options_.pf.max_consecutive_rejections) return;
+    // Lost: fall through to a loose fix, which re-initialises the filter.
+    consecutive_gated_ = 0;
+    if (std::optional<PositionMeasurement> m = vlc_->fix(f, R_BtoW)) {
+      pf_->initialize(m->z, m->R * 4.0);
+      ++stats_.reinitializations;
+      t_last_fix_ = f.t_obs;
+    }
+    return;
+  }
+  std::optional<PositionMeasurement> m = vlc_->fix(f, R_BtoW);
+  if (!m) return;
+  ++stats_.vlc_fixes;
+  apply_position(*m);
+}
+
+void FusionEngine::on_fix(const FixSample& s, std::vector<PoseEstimate>& out) {
+  if (!s.p_inW.allFinite()) return;
+  PositionMeasurement m;
+  m.t = s.t;
+  m.z = s.p_inW;
+  const double sigma = std::isfinite(s.sigma_m) && s.sigma_m > 0 ? s.sigma_m : options_.default_fix_sigma_m;
+  m.R = Eigen::Matrix2d::Identity() * sigma * sigma;
+  if (have_imu_) predict_to(std::max(s.t, t_filter_));
+  apply_position(m);
+  if (!have_imu_) emit(s.t, out, true);
+}
+
+void FusionEngine::apply_position(const PositionMeasurement& m) {
+  const bool was_initialized = filter_->initialized();
+  if (!was_initialized) t_filter_ = have_imu_ ? t_imu_ : m.t;
+  const CorrectionResult r = filter_->correct(m);
+  if (r.accepted) {
+    ++stats_.fixes_accepted;
+    t_last_fix_ = m.t;
+  } else {
+    ++stats_.fixes_gated;
+  }
+  if (r.reinitialized && was_initialized) ++stats_.reinitializations;
+}
+
+void FusionEngine::emit(TimeNs t, std::vector<PoseEstimate>& out, bool force) {
+  if (!filter_->initialized()) return;
+  if (!force && emitted_ && options_.output_rate_hz > 0 &&
+      ns_to_seconds(t - t_last_emit_) < 1.0 / options_.output_rate_hz - 1e-6)
+    return;
+  const PlanarEstimate e = filter_->estimate();
+  if (!e.valid) return;  // never emit NaN
+  PoseEstimate p;
+  p.t = t;
+  p.p_BinW = {e.p.x(), e.p.y(), device_height_m_};
+  if (ahrs_.initialized()) {
+    p.yaw = ahrs_.yaw();
+    p.roll = ahrs_.roll();
+    p.pitch = ahrs_.pitch();
+  }
+  p.sigma_x = std::sqrt(std::max(0.0, e.cov_p(0, 0)));
+  p.sigma_y = std::sqrt(std::max(0.0, e.cov_p(1, 1)));
+  p.n_eff = e.n_eff;
+  p.leds = last_leds_;
+  p.mode = ns_to_seconds(t - t_last_fix_) < 1.0 ? "fused" : "dead-reckoning";
+  out.push_back(std::move(p));
+  ++stats_.poses;
+  t_last_emit_ = t;
+  emitted_ = true;
+}
+
+}  // namespace luxloc

@@ -1,0 +1,66 @@
+#pragma once
+// The fusion stage: IMU attitude (Mahony) and strapdown acceleration drive the planar
+// filter's prediction; decoded LED frames and absolute fixes correct it. Camera frames are
+// held until the IMU timeline passes their observation time, so each correction is applied
+// at the moment its rows were exposed, not when the frame started.
+#include <deque>
+#include <memory>
+#include <optional>
+
+#include "core/common/session_config.hpp"
+#include "core/fusion/fusion_options.hpp"
+#include "core/fusion/fusion_stats.hpp"
+#include "core/fusion/vlc_frontend.hpp"
+#include "core/pipeline/fusion_stage.hpp"
+
+namespace luxloc {
+
+class FusionEngine final : public FusionStage {
+ public:
+  // `map` and `camera` may be absent (then frames are counted and ignored).
+  FusionEngine(const FusionOptions& options, const std::optional<LedMap>& map,
+               const std::optional<CameraModel>& camera, const SessionConfig& session = {});
+  ~FusionEngine() override;
+
+  void process(const Sample& sample, std::vector<PoseEstimate>& out) override;
+  void finish(std::vector<PoseEstimate>& out) override;
+
+  const FusionStats& stats() const { return stats_; }
+  const PlanarFilter& filter() const { return *filter_; }
+  const MahonyFilter& attitude() const { return ahrs_; }
+  double device_height_m() const { return device_height_m_; }
+
+ private:
+  void on_imu(const ImuSample& s, std::vector<PoseEstimate>& out);
+  void on_frame(const FrameSample& s, std::vector<PoseEstimate>& out);
+  void on_fix(const FixSample& s, std::vector<PoseEstimate>& out);
+  void apply_frame(const DecodedFrame& f);
+  void apply_position(const PositionMeasurement& m);
+  void predict_to(TimeNs t);
+  void emit(TimeNs t, std::vector<PoseEstimate>& out, bool force);
+
+  FusionOptions options_;
+  FusionStats stats_;
+  MahonyFilter ahrs_;
+  std::unique_ptr<PlanarFilter> filter_;
+  ParticleFilter* pf_ = nullptr;  // filter_ when it is a particle filter (tight coupling)
+  double ceiling_distance_m_ = 2.0;
+  double focal_px_ = 500.0;
+  int consecutive_gated_ = 0;
+  double vlc_ceiling_distance() const { return ceiling_distance_m_; }
+  double vlc_focal_px() const { return focal_px_; }
+  std::unique_ptr<VlcFrontend> vlc_;
+  double device_height_m_;
+  std::deque<DecodedFrame> pending_frames_;
+  TimeNs t_filter_ = 0;      // time the filter state refers to
+  bool have_imu_ = false;
+  TimeNs t_imu_ = 0;
+  Eigen::Vector2d acc_inW_ = Eigen::Vector2d::Zero();  // last horizontal world acceleration
+  bool acc_valid_ = false;
+  TimeNs t_last_emit_ = 0;
+  bool emitted_ = false;
+  int last_leds_ = 0;
+  TimeNs t_last_fix_ = 0;
+};
+
+}  // namespace luxloc

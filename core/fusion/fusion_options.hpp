@@ -1,0 +1,46 @@
+#pragma once
+#include <limits>
+#include <string>
+
+#include "core/filter/particle_filter.hpp"
+#include "core/imu/mahony_filter.hpp"
+
+namespace luxloc {
+
+// Everything `luxloc run` can tune about the fusion, with defaults that work on the
+// simulator's walk and the spec-sample session (README "Tuning").
+struct FusionOptions {
+  std::string filter = "pf";  // see filter_names(): pf = seed A's SIR particle filter
+  // Which inputs the fusion uses (for comparisons: imu-only, fixes-only...).
+  bool use_imu = true;    // false: IMU only gives the attitude; prediction is constant velocity
+  bool use_vlc = true;    // camera frames
+  bool use_fixes = true;  // fixes.csv
+  ParticleFilterOptions pf;
+  MahonyOptions ahrs;
+  // Nominal device height above the floor (m); NaN: take session.yaml's device_height_m.
+  double device_height_m = std::numeric_limits<double>::quiet_NaN();
+  // Use the accelerometer (rotated by the attitude, gravity removed) in the motion model;
+  // false: constant-velocity prediction.
+  bool use_accelerometer = true;
+  // Tight coupling: weigh particles by the reprojection error of each decoded LED (one
+  // LED suffices); false: seed A's loose coupling (a position fix per frame).
+  bool tight_coupling = true;
+  // Tight-coupling gate: mean reprojection error (in metres at the ceiling) tolerated
+  // beyond 3 sigma of the filter's spread.
+  double tight_gate_m = 0.5;
+  // Remove omega x v from the accelerometer before it serves as the gravity reference.
+  bool compensate_centripetal = true;
+  // Pixel noise of a decoded LED centre (1 sigma) for the fix covariance.
+  double vlc_pixel_sigma = 1.0;
+  // Attitude uncertainty (1 sigma, rad) folded into the VLC fix covariance.
+  double attitude_sigma_rad = 0.01;
+  // Sigma of fixes.csv rows that carry none (m).
+  double default_fix_sigma_m = 0.2;
+  // Poses are written at most at this rate (Hz) on the IMU's timeline; 0 = every IMU sample.
+  double output_rate_hz = 50.0;
+  // A frame whose observation is older than this when the IMU has moved past is applied
+  // late (and counted) rather than waiting for an IMU sample after it.
+  double max_frame_hold_s = 0.2;
+};
+
+}  // namespace luxloc

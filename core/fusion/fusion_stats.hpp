@@ -1,0 +1,23 @@
+#pragma once
+#include <cstdint>
+
+namespace luxloc {
+
+// What the fusion stage saw and did: printed at the end of every run.
+struct FusionStats {
+  std::uint64_t imu_samples = 0;
+  std::uint64_t imu_rejected = 0;     // non-finite or non-increasing time
+  std::uint64_t frames = 0;
+  std::uint64_t frames_with_leds = 0;
+  std::uint64_t leds_decoded = 0;     // blobs matched to an LED
+  std::uint64_t blobs_rejected = 0;   // blobs the decoder refused to identify
+  std::uint64_t vlc_fixes = 0;        // position fixes made from frames
+  std::uint64_t fixes_accepted = 0;   // corrections the filter took
+  std::uint64_t fixes_gated = 0;      // corrections refused by the gate
+  std::uint64_t reinitializations = 0;
+  std::uint64_t frames_without_attitude = 0;  // frames before the IMU aligned
+  std::uint64_t other_samples = 0;    // kinds this filter does not use yet
+  std::uint64_t poses = 0;
+};
+
+}  // namespace luxloc

@@ -1,0 +1,43 @@
+#pragma once
+// The camera side of the fusion: decodes a rolling-shutter frame into LED observations and
+// turns them into a position measurement once the attitude at the observation time is
+// known (SEEDS.md A, S2: stripes -> frequency -> LED id -> position).
+#include <Eigen/Core>
+#include <memory>
+#include <optional>
+
+#include "core/common/samples.hpp"
+#include "core/filter/planar_filter.hpp"
+#include "core/fusion/fusion_options.hpp"
+#include "core/fusion/reprojection_likelihood.hpp"
+#include "core/vlc/camera_model.hpp"
+#include "core/vlc/led_map.hpp"
+
+namespace luxloc {
+
+struct DecodedFrame {
+  TimeNs t_frame = 0;
+  TimeNs t_obs = 0;     // mid-exposure of the decoded LEDs' rows (rolling shutter)
+  int leds = 0;         // blobs identified
+  int rejected = 0;     // blobs refused
+  struct Impl;
+  std::shared_ptr<const Impl> impl;  // the decoder's observations
+};
+
+class VlcFrontend {
+ public:
+  VlcFrontend(const CameraModel& camera, const LedMap& map, const FusionOptions& options, double device_height_m);
+  ~VlcFrontend();
+  DecodedFrame decode(const FrameSample& frame) const;
+  // Position of the body from the decoded LEDs, given the attitude; nullopt when the
+  // frame cannot fix a position (no LED, degenerate geometry).
+  std::optional<PositionMeasurement> fix(const DecodedFrame& frame, const Eigen::Matrix3d& R_BtoW) const;
+  // Tight coupling: the per-particle reprojection likelihood of the frame's LEDs.
+  ReprojectionLikelihood likelihood(const DecodedFrame& frame, const Eigen::Matrix3d& R_BtoW) const;
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+}  // namespace luxloc
