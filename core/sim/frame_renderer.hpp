@@ -13,7 +13,7 @@
 namespace luxloc::sim {
 
 struct RenderOptions {
-  double peak_dn = 235.0;       // pixel value of an LED that is on for the whole exposure
+  double peak_dn = 235.0;       // DN above black of an LED seen head-on, on for the whole exposure
   double black_dn = 6.0;        // black level
   double read_noise_dn = 1.2;   // Gaussian read noise (DN, 1 sigma)
   bool shot_noise = true;       // Poisson-like noise proportional to sqrt(signal)

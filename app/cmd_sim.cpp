@@ -1,0 +1,111 @@
+// `luxloc sim`: writes a synthetic session folder (SPEC.md "Session folder"): rolling-shutter
+// frames, IMU, ground truth, steps, LED map and camera. Model: docs/SIMULATOR.md.
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "app/commands.hpp"
+#include "core/sim/scenario.hpp"
+#include "core/sim/session_writer.hpp"
+#include "core/sim/simulator.hpp"
+
+namespace luxloc::app {
+namespace {
+
+struct SimArgs {
+  std::string out;
+  std::string scenario = "walk";
+  std::uint64_t seed = 1;
+  double duration_s = 0.0;
+  double fps = 30.0;
+  std::vector<std::string> blackouts;
+  bool no_frames = false;
+  std::string frame_format = "jpg";
+  int png_level = 1;
+  int jpeg_quality = 95;
+  double read_noise_dn = sim::RenderOptions{}.read_noise_dn;
+};
+
+// "START:DURATION" in seconds, both finite, DURATION > 0.
+sim::Blackout parse_blackout(const std::string& text) {
+  const std::size_t colon = text.find(':');
+  sim::Blackout b;
+  std::size_t used_a = 0, used_b = 0;
+  try {
+    if (colon == std::string::npos) throw std::invalid_argument("no colon");
+    const std::string a = text.substr(0, colon), d = text.substr(colon + 1);
+    b.start_s = std::stod(a, &used_a);
+    b.duration_s = std::stod(d, &used_b);
+    if (used_a != a.size() || used_b != d.size()) throw std::invalid_argument("trailing characters");
+  } catch (const std::exception&) {
+    throw CLI::ValidationError("--blackout", "expected START:DURATION in seconds, got '" + text + "'");
+  }
+  if (!std::isfinite(b.start_s) || !std::isfinite(b.duration_s) || b.start_s < 0.0 || !(b.duration_s > 0.0))
+    throw CLI::ValidationError("--blackout", "START must be >= 0 and DURATION > 0 in '" + text + "'");
+  return b;
+}
+
+int run_sim(const SimArgs& a) {
+  const auto t_start = std::chrono::steady_clock::now();
+  sim::SimOptions options;
+  options.seed = a.seed;
+  options.duration_s = a.duration_s;
+  options.fps = a.fps;
+  options.render.read_noise_dn = a.read_noise_dn;
+  for (const std::string& b : a.blackouts) options.blackouts.push_back(parse_blackout(b));
+  const sim::Simulator simulator(sim::make_scenario(a.scenario), options);
+
+  sim::SessionWriteOptions write;
+  write.write_frames = !a.no_frames;
+  write.format = a.frame_format == "png" ? sim::ImageFormat::png : sim::ImageFormat::jpeg;
+  write.png_compression = a.png_level;
+  write.jpeg_quality = a.jpeg_quality;
+  const sim::SessionSummary s = sim::write_session(simulator, a.out, write);
+
+  const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  std::printf("sim %s: %.1f s, %zu frames%s, %zu IMU samples, %zu steps, %zu LEDs, %zu files (%.1f MB) -> %s in %.1f s\n",
+              a.scenario.c_str(), simulator.duration_s(), s.frames,
+              s.frames == 0 ? "" : (a.frame_format == "png" ? " (PNG)" : " (JPEG)"), s.imu_samples, s.steps,
+              simulator.scenario().map.size(), s.files, static_cast<double>(s.bytes) / 1e6, a.out.c_str(), took);
+  std::fflush(stdout);
+  return 0;
+}
+
+}  // namespace
+
+void add_sim_command(CLI::App& root, Action& action) {
+  auto args = std::make_shared<SimArgs>();
+  CLI::App* cmd = root.add_subcommand(
+      "sim", "write a synthetic session folder: rolling-shutter frames, IMU, ground truth (docs/SIMULATOR.md)");
+  cmd->add_option("--out", args->out, "session folder to write (created if needed)")->required();
+  cmd->add_option("--scenario", args->scenario, "scenario")
+      ->check(CLI::IsMember(sim::scenario_names()))
+      ->capture_default_str();
+  cmd->add_option("--seed", args->seed, "random seed (same seed -> identical files)")->capture_default_str();
+  cmd->add_option("--duration", args->duration_s, "seconds to simulate (default: the scenario's)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--fps", args->fps, "camera frame rate")->check(CLI::PositiveNumber)->capture_default_str();
+  cmd->add_option("--blackout", args->blackouts, "START:DURATION seconds with all lights off (repeatable)")
+      ->each([](const std::string& s) { (void)parse_blackout(s); });
+  cmd->add_flag("--no-frames", args->no_frames, "write no frames (IMU and truth only)");
+  // JPEG by default: like a webcam's MJPEG stream, and a 640x480 frame decodes in ~0.8 ms
+  // against ~3.3 ms for a lossless PNG of the same noisy image (README "Measured figures").
+  cmd->add_option("--frame-format", args->frame_format, "image files: jpg (quality --jpeg-quality) or png (lossless)")
+      ->check(CLI::IsMember({"jpg", "png"}))
+      ->capture_default_str();
+  cmd->add_option("--jpeg-quality", args->jpeg_quality, "JPEG quality")
+      ->check(CLI::Range(1, 100))
+      ->capture_default_str();
+  cmd->add_option("--png-level", args->png_level, "PNG zlib compression level")
+      ->check(CLI::Range(0, 9))
+      ->capture_default_str();
+  cmd->add_option("--read-noise", args->read_noise_dn, "sensor read noise, DN (1 sigma)")
+      ->check(CLI::Range(0.0, 50.0))
+      ->capture_default_str();
+  cmd->callback([args, &action] { action = [args] { return run_sim(*args); }; });
+}
+
+}  // namespace luxloc::app

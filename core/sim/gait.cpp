@@ -1,0 +1,83 @@
+#include "core/sim/gait.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+
+namespace luxloc::sim {
+namespace {
+
+// Quintic smoothstep S(x) = 6x^5 - 15x^4 + 10x^3: S(0) = 0, S(1) = 1, S' and S'' vanish at
+// both ends, so the envelope (and with it the speed and acceleration) is C2.
+double S(double x) { return x * x * x * (10.0 + x * (-15.0 + 6.0 * x)); }
+double dS(double x) { return 30.0 * x * x * (1.0 - x) * (1.0 - x); }
+double ddS(double x) { return 60.0 * x * (1.0 - x) * (1.0 - 2.0 * x); }
+double intS(double x) { return x * x * x * x * (2.5 + x * (-3.0 + x)); }  // int_0^x S
+
+}  // namespace
+
+Gait::Gait(std::vector<WalkInterval> walking, const GaitOptions& options)
+    : walking_(std::move(walking)), opt_(options) {
+  if (!(opt_.ramp_s > 0.0) || !(opt_.step_hz > 0.0) || !(opt_.speed_mps >= 0.0) ||
+      !(std::abs(opt_.speed_modulation) < 1.0))
+    throw std::invalid_argument("Gait: invalid options");
+  double prev_stop = -std::numeric_limits<double>::infinity();
+  for (const WalkInterval& w : walking_) {
+    if (!(w.start_s >= prev_stop) || !(w.stop_s - w.start_s >= 2.0 * opt_.ramp_s))
+      throw std::invalid_argument("Gait: walking intervals overlap or are shorter than two ramps");
+    prev_stop = w.stop_s;
+  }
+}
+
+Jet Gait::envelope(double t) const {
+  const double T = opt_.ramp_s;
+  for (const WalkInterval& w : walking_) {
+    if (t <= w.start_s || t >= w.stop_s) continue;
+    if (t < w.start_s + T) {
+      const double x = (t - w.start_s) / T;
+      return {S(x), dS(x) / T, ddS(x) / (T * T)};
+    }
+    if (t <= w.stop_s - T) return Jet::constant(1.0);
+    const double y = (t - (w.stop_s - T)) / T;
+    return {1.0 - S(y), -dS(y) / T, -ddS(y) / (T * T)};
+  }
+  return Jet::constant(0.0);
+}
+
+Jet Gait::walked_time(double t) const {
+  const double T = opt_.ramp_s;
+  double G = 0.0;
+  for (const WalkInterval& w : walking_) {
+    if (t <= w.start_s) break;
+    G += T * intS(std::min((t - w.start_s) / T, 1.0));
+    const double plateau_end = w.stop_s - T;  // +inf for an open interval
+    G += std::max(0.0, std::min(t, plateau_end) - (w.start_s + T));
+    if (t > plateau_end) {
+      const double y = std::min((t - plateau_end) / T, 1.0);
+      G += T * (y - intS(y));
+    }
+  }
+  const Jet g = envelope(t);
+  return {G, g.v, g.d};
+}
+
+Jet Gait::step_phase(double t) const { return 2.0 * std::numbers::pi * opt_.step_hz * walked_time(t); }
+
+std::vector<double> Gait::heel_strikes(double until_s) const {
+  std::vector<double> out;
+  const double steps_total = opt_.step_hz * walked_time(until_s).v;
+  for (int k = 1; k <= static_cast<int>(std::floor(steps_total)); ++k) {
+    // First time with f G(t) >= k (G is non-decreasing): bisection to ~1e-9 s.
+    double lo = 0.0, hi = until_s;
+    for (int it = 0; it < 64 && hi - lo > 1e-10; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      (opt_.step_hz * walked_time(mid).v >= k ? hi : lo) = mid;
+    }
+    if (envelope(hi).v >= opt_.min_step_envelope) out.push_back(hi);
+  }
+  return out;
+}
+
+}  // namespace luxloc::sim

@@ -1,0 +1,45 @@
+#pragma once
+// When and how a pedestrian walks: a smooth walking envelope g(t) in [0, 1] (0 standing,
+// 1 walking at the nominal speed) made of walking intervals with C2 ramps, its integral
+// G(t) ("walking time"), and the step phase phi = 2 pi f_step G(t). Heel strikes happen at
+// phi = 2 pi k, so the cadence slows with the envelope and freezes during stops.
+#include <vector>
+
+#include "core/sim/jet.hpp"
+
+namespace luxloc::sim {
+
+struct WalkInterval {
+  double start_s = 0.0;  // envelope starts rising
+  double stop_s = 0.0;   // envelope is back at 0 (may be +infinity: walk to the end)
+};
+
+struct GaitOptions {
+  double speed_mps = 1.25;         // along-path speed on straights at envelope 1
+  double step_hz = 1.8;            // cadence (steps per second)
+  double ramp_s = 1.0;             // start / stop ramp duration
+  double speed_modulation = 0.10;  // forward speed oscillates +-10 % per step (fastest at heel strike)
+  double bounce_m = 0.015;         // vertical oscillation amplitude (3 cm peak to peak), lowest at heel strike
+  double roll_sway_rad = 0.044;    // 2.5 deg, side-to-side at the stride frequency (step_hz / 2)
+  double pitch_sway_rad = 0.035;   // 2.0 deg at the step frequency
+  double yaw_sway_rad = 0.017;     // 1.0 deg at the stride frequency
+  double min_step_envelope = 0.5;  // heel strikes where g(t) < this are not counted as steps
+};
+
+class Gait {
+ public:
+  // Intervals sorted, non-overlapping, each at least 2 ramps long; throws std::invalid_argument.
+  Gait(std::vector<WalkInterval> walking, const GaitOptions& options);
+
+  Jet envelope(double t) const;      // g, g', g''
+  Jet walked_time(double t) const;   // G = integral of g, with G' = g and G'' = g'
+  Jet step_phase(double t) const;    // phi = 2 pi step_hz G (radians)
+  std::vector<double> heel_strikes(double until_s) const;
+  const GaitOptions& options() const { return opt_; }
+
+ private:
+  std::vector<WalkInterval> walking_;
+  GaitOptions opt_;
+};
+
+}  // namespace luxloc::sim

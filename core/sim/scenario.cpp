@@ -1,0 +1,110 @@
+#include "core/sim/scenario.hpp"
+
+#include <limits>
+#include <stdexcept>
+
+#include "core/sim/walk_trajectory.hpp"
+
+namespace luxloc::sim {
+
+CameraModel default_sim_camera() {
+  CameraModel c;
+  c.width = 640;
+  c.height = 480;
+  c.fx = c.fy = 460.0;
+  c.cx = 320.0;
+  c.cy = 240.0;
+  c.dist = {-0.05, 0.0, 0.0, 0.0, 0.0};
+  c.row_time_s = 30e-6;
+  c.exposure_s = 100e-6;
+  // Looking up: camera x = body -y (right), camera y = body +x (forward), camera z = body z
+  // (up); columns of R_CtoB are the camera axes in the body frame (SPEC R_body_camera).
+  c.R_CtoB << 0, 1, 0,  //
+      -1, 0, 0,         //
+      0, 0, 1;
+  c.p_CinB.setZero();
+  return c;
+}
+
+LedMap default_led_grid() {
+  std::vector<Led> leds;
+  for (int iy = 0; iy < 3; ++iy)
+    for (int ix = 0; ix < 4; ++ix) {
+      const int i = iy * 4 + ix;
+      Led l;
+      l.id = i + 1;
+      l.freq_hz = 1000.0 + 300.0 * i;
+      l.p_inW = {1.0 + 2.0 * ix, 1.0 + 2.0 * iy, 3.0};
+      l.duty = 0.5;
+      l.half_power_angle_deg = 60.0;
+      l.power = 1.0;
+      l.diameter_m = 0.20;
+      leds.push_back(l);
+    }
+  return LedMap(std::move(leds), "sim:default_led_grid");
+}
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+Scenario base(const std::string& name, const std::string& description, double duration_s) {
+  Scenario s;
+  s.name = name;
+  s.description = description;
+  s.duration_s = duration_s;
+  s.map = default_led_grid();
+  s.camera = default_sim_camera();
+  return s;
+}
+
+Scenario walk() {
+  Scenario s = base("walk",
+                    "a person walks a 24 m loop under all 12 LEDs of an 8 m x 6 m room, with two brief stops",
+                    90.0);
+  WalkOptions w;
+  // All turns 90 deg; every LED of the grid lies on the loop, 1 m from the walls.
+  w.waypoints = {{1, 1}, {7, 1}, {7, 5}, {5, 5}, {5, 3}, {3, 3}, {3, 5}, {1, 5}};
+  w.corner_sigma_m = 0.5;
+  w.start_u_m = 2.0;  // (3, 1), under LED 2, heading east
+  w.height_m = s.device_height_m;
+  w.walking = {{2.0, 31.0}, {33.0, 61.0}, {63.0, kInf}};  // stand 2 s first, then stop twice for 2 s
+  s.trajectory = std::make_shared<WalkTrajectory>(w);
+  return s;
+}
+
+Scenario square() {
+  Scenario s = base("square", "a slow walk (0.6 m/s) around a 4 m x 4 m square", 60.0);
+  WalkOptions w;
+  w.waypoints = {{2, 1}, {6, 1}, {6, 5}, {2, 5}};
+  w.corner_sigma_m = 0.4;
+  w.start_u_m = 1.0;  // (3, 1), under LED 2, heading east
+  w.height_m = s.device_height_m;
+  w.walking = {{2.0, kInf}};
+  w.gait.speed_mps = 0.6;
+  w.gait.step_hz = 1.4;
+  w.gait.bounce_m = 0.008;
+  s.trajectory = std::make_shared<WalkTrajectory>(w);
+  return s;
+}
+
+Scenario still() {
+  Scenario s = base("static", "standing still at (3, 2) facing 0.5 rad, LEDs 2 and 6 in view", 30.0);
+  s.trajectory = std::make_shared<StaticTrajectory>(Eigen::Vector3d(3.0, 2.0, s.device_height_m), 0.5);
+  return s;
+}
+
+}  // namespace
+
+std::vector<std::string> scenario_names() { return {"walk", "static", "square"}; }
+
+Scenario make_scenario(const std::string& name) {
+  if (name == "walk") return walk();
+  if (name == "static") return still();
+  if (name == "square") return square();
+  std::string valid;
+  for (const std::string& n : scenario_names()) valid += (valid.empty() ? "" : ", ") + n;
+  throw std::invalid_argument("unknown scenario '" + name + "' (valid: " + valid + ")");
+}
+
+}  // namespace luxloc::sim

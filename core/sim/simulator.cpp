@@ -1,0 +1,58 @@
+#include "core/sim/simulator.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "core/sim/seeding.hpp"
+
+namespace luxloc::sim {
+
+Simulator::Simulator(Scenario scenario, SimOptions options) : scenario_(std::move(scenario)), opt_(std::move(options)) {
+  duration_s_ = opt_.duration_s > 0.0 ? opt_.duration_s : scenario_.duration_s;
+  if (!std::isfinite(duration_s_) || !(opt_.fps > 0.0) || !std::isfinite(opt_.fps) || !(opt_.imu_rate_hz > 0.0) ||
+      !std::isfinite(opt_.imu_rate_hz) || !(opt_.frame_offset_s >= 0.0))
+    throw std::invalid_argument("simulator: duration, fps and imu rate must be finite and > 0");
+  if (!scenario_.trajectory) throw std::invalid_argument("simulator: scenario has no trajectory");
+  std::mt19937_64 bias_rng = make_rng(opt_.seed, RandomStream::imu_biases);
+  biases_ = draw_imu_biases(opt_.imu, bias_rng);
+  // Each LED's square wave starts at a random point of its period (unsynchronised drivers).
+  std::mt19937_64 phase_rng = make_rng(opt_.seed, RandomStream::led_phases);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (const Led& l : scenario_.map.leds()) phases_s_.push_back(unit(phase_rng) / l.freq_hz);
+}
+
+std::size_t Simulator::imu_count() const {
+  // k / rate < duration, robust to rounding (90 s at 100 Hz -> 9000 samples).
+  return static_cast<std::size_t>(std::ceil(duration_s_ * opt_.imu_rate_hz - 1e-9));
+}
+
+std::vector<ImuSample> Simulator::imu_samples() const {
+  std::mt19937_64 rng = make_rng(opt_.seed, RandomStream::imu_noise);
+  std::vector<ImuSample> out;
+  out.reserve(imu_count());
+  for (std::size_t k = 0; k < imu_count(); ++k)
+    out.push_back(synthesize_imu(truth(imu_time_s(k)), opt_.imu, biases_, rng));
+  return out;
+}
+
+std::size_t Simulator::frame_count() const {
+  return static_cast<std::size_t>(std::floor(duration_s_ * opt_.fps + 1e-9));
+}
+
+bool Simulator::lights_on(double t_s) const {
+  for (const Blackout& b : opt_.blackouts)
+    if (b.contains(t_s)) return false;
+  return true;
+}
+
+RenderedFrame Simulator::render(std::size_t k) const {
+  const double t0 = frame_time_s(k);
+  RenderOptions ro = opt_.render;
+  ro.lights_on = ro.lights_on && lights_on(t0);
+  std::mt19937_64 rng = make_rng(opt_.seed, RandomStream::frame, k);
+  const Trajectory& traj = *scenario_.trajectory;
+  const PoseAt pose_at = [&traj](double t) { return traj.state(t).T_BtoW(); };
+  return render_frame(scenario_.camera, scenario_.map, pose_at, t0, ro, rng, phases_s_);
+}
+
+}  // namespace luxloc::sim
