@@ -1,10 +1,18 @@
 #include "core/imu/mahony_filter.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace luxloc {
 
-MahonyFilter::MahonyFilter(const MahonyOptions& options) : options_(options) {}
+MahonyFilter::MahonyFilter(const MahonyOptions& options) : options_(options), still_(options.still) {}
+
+void MahonyFilter::set_mag_reference(const Eigen::Vector3d& mag_inB, const Eigen::Vector3d& up_inB) {
+  mag_ref_norm_ = mag_inB.norm();
+  mag_ref_dip_ = -std::asin(std::clamp(mag_inB.normalized().dot(up_inB), -1.0, 1.0));
+  mag_ref_valid_ = true;
+  mag_disturbed_since_ = -1;
+}
 
 void MahonyFilter::align(const Eigen::Vector3d& acc_inB, const Eigen::Vector3d* mag_inB) {
   // Accelerometer at rest reads +g along world up: roll and pitch follow (ZYX Euler).
@@ -21,10 +29,41 @@ void MahonyFilter::align(const Eigen::Vector3d& acc_inB, const Eigen::Vector3d* 
     // The horizontal field points north (+y in ENU): the body heading is yaw with
     // north = R_z(yaw) * m_level  =>  yaw = atan2(m_x, m_y) for m expressed in level body axes.
     yaw = std::atan2(m.x(), m.y());
+    set_mag_reference(*mag_inB, a);
   }
   q_ = Eigen::Quaterniond(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * Eigen::Quaterniond(R_tilt));
   q_.normalize();
   initialized_ = true;
+}
+
+Eigen::Vector3d MahonyFilter::magnetometer_error(const Eigen::Matrix3d& R, const ImuSample& s) {
+  if (!s.has_mag || !options_.use_magnetometer || s.mag_inB.norm() < 1e-6) return Eigen::Vector3d::Zero();
+  const Eigen::Vector3d m = s.mag_inB.normalized();
+  const Eigen::Vector3d up_inB = R.transpose().col(2);
+  if (!mag_ref_valid_) set_mag_reference(s.mag_inB, up_inB);  // aligned without a magnetometer
+  const double dip = -std::asin(std::clamp(m.dot(up_inB), -1.0, 1.0));
+  const bool disturbed = std::abs(s.mag_inB.norm() - mag_ref_norm_) > options_.mag_rejection * mag_ref_norm_ ||
+                         std::abs(dip - mag_ref_dip_) > options_.mag_dip_rejection_rad;
+  if (disturbed) {
+    if (mag_disturbed_since_ < 0) mag_disturbed_since_ = s.t;
+    if (ns_to_seconds(s.t - mag_disturbed_since_) < options_.mag_rejection_timeout_s) {
+      ++mag_rejected_;
+      return Eigen::Vector3d::Zero();
+    }
+    set_mag_reference(s.mag_inB, up_inB);  // a lasting change: the new normal
+  } else {
+    mag_disturbed_since_ = -1;
+  }
+  // Reference field: the measured field rotated to the world, its horizontal part put on
+  // north (+y, ENU), so the magnetometer only corrects heading (Mahony 2008, eq. 34). The
+  // error is taken between the horizontal directions only: m x b of the unit vectors would
+  // scale it by cos^2(dip) (~0.2 at mid latitudes), slowing the heading correction 5-fold.
+  const Eigen::Vector3d h = R * m;
+  const double h_horizontal = std::hypot(h.x(), h.y());
+  if (h_horizontal < 0.1) return Eigen::Vector3d::Zero();  // field nearly vertical: no heading
+  // (h_xy / |h_xy|) x north, about world up: the sine of the heading error; applied about
+  // the body's up axis.
+  return up_inB * (h.x() / h_horizontal);
 }
 
 void MahonyFilter::update(const ImuSample& s) {
@@ -33,6 +72,7 @@ void MahonyFilter::update(const ImuSample& s) {
     return;
   }
   if (!initialized_) {
+    still_.update(s);
     align(s.acc_inB, s.has_mag ? &s.mag_inB : nullptr);
     t_ = t_start_ = s.t;
     return;
@@ -42,6 +82,7 @@ void MahonyFilter::update(const ImuSample& s) {
     ++rejected_;
     return;
   }
+  still_.update(s);
   dt = std::min(dt, options_.max_dt_s);
   t_ = s.t;
 
@@ -52,21 +93,15 @@ void MahonyFilter::update(const ImuSample& s) {
     const Eigen::Vector3d v_up_inB = R.transpose().col(2);  // predicted "up" in body
     e += (s.acc_inB / a_norm).cross(v_up_inB);
   }
-  if (s.has_mag && options_.use_magnetometer && s.mag_inB.norm() > 1e-6) {
-    // Reference field: the measured field rotated to the world, its horizontal part put on
-    // north (+y, ENU), so the magnetometer only corrects heading (Mahony 2008, eq. 34).
-    const Eigen::Vector3d m = s.mag_inB.normalized();
-    const Eigen::Vector3d h = R * m;
-    const Eigen::Vector3d b(0.0, std::hypot(h.x(), h.y()), h.z());
-    const Eigen::Vector3d w_inB = R.transpose() * b;
-    // Only the heading part: project the correction on the body's up axis.
-    const Eigen::Vector3d em = m.cross(w_inB);
-    const Eigen::Vector3d up_inB = R.transpose().col(2);
-    e += up_inB * up_inB.dot(em);
-  }
+  e += magnetometer_error(R, s);
   const bool converging = ns_to_seconds(s.t - t_start_) < options_.init_duration_s;
   const double kp = converging ? options_.kp_init : options_.kp;
-  if (!converging) bias_ -= options_.ki * e * dt;  // integral term: - bias estimate
+  if (still_.still() && options_.bias_at_rest) {
+    // At rest the mean rate is the bias (Earth's rate, < 0.005 deg/s, is below the noise).
+    bias_ = still_.still_mean_gyro();
+  } else if (!converging) {
+    bias_ -= options_.ki * e * dt;  // integral term: - bias estimate
+  }
   const Eigen::Vector3d w = s.gyro_inB - bias_ + kp * e;
   last_gyro_corrected_ = s.gyro_inB - bias_;
 

@@ -1,9 +1,14 @@
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
 #include <numbers>
 
+#include "core/common/csv_reader.hpp"
 #include "core/filter/fast_rng.hpp"
 #include "core/imu/mahony_filter.hpp"
+#include "sim_walk.hpp"
+#include "test_support.hpp"
 
 using namespace luxloc;
 
@@ -74,4 +79,148 @@ TEST_CASE("Mahony follows a rotation and ignores non-finite samples", "[imu]") {
   }
   CHECK(f.rejected_samples() == 1);
   CHECK(f.yaw() == Approx(1.0).margin(0.01));
+}
+
+// ---- figures on the simulator's walk and on real data ----------------------------------
+
+namespace {
+
+struct AttitudeErrors {
+  double roll_rms_deg = 0, pitch_rms_deg = 0, yaw_end_deg = 0;
+};
+
+// Runs the filter over the simulated walk; without a magnetometer the heading is compared
+// relative to the start (it has no absolute reference).
+AttitudeErrors run_on_walk(const test::SimWalk& w, bool use_mag) {
+  MahonyOptions o;
+  o.use_magnetometer = use_mag;
+  MahonyFilter f(o);
+  double sr = 0, sp = 0, yaw0e = 0, yaw0t = 0;
+  std::size_t n = 0;
+  for (const ImuSample& s : w.imu) {
+    f.update(s);
+    const sim::BodyState tr = w.simulator.truth(ns_to_seconds(s.t));
+    if (n == 0) yaw0e = f.yaw(), yaw0t = tr.yaw;
+    const double er = std::remainder(f.roll() - tr.roll, 2 * std::numbers::pi);
+    const double ep = std::remainder(f.pitch() - tr.pitch, 2 * std::numbers::pi);
+    sr += er * er;
+    sp += ep * ep;
+    ++n;
+  }
+  const sim::BodyState end = w.simulator.truth(ns_to_seconds(w.imu.back().t));
+  const double ey = use_mag ? f.yaw() - end.yaw : (f.yaw() - yaw0e) - (end.yaw - yaw0t);
+  constexpr double deg = 180.0 / std::numbers::pi;
+  return {std::sqrt(sr / n) * deg, std::sqrt(sp / n) * deg, std::remainder(ey, 2 * std::numbers::pi) * deg};
+}
+
+}  // namespace
+
+TEST_CASE("Mahony on the simulated 90 s walk: roll/pitch rms <= 1 deg, yaw at the end <= 2 deg (mag) / 5 deg (none)",
+          "[imu]") {
+  for (std::uint64_t seed : {1u, 2u}) {
+    const test::SimWalk& w = test::sim_walk(seed);
+    const AttitudeErrors with = run_on_walk(w, true), without = run_on_walk(w, false);
+    std::printf("[imu] walk seed %llu: mag: roll rms %.3f pitch rms %.3f yaw end %.3f deg; no mag: yaw end %.3f deg\n",
+                static_cast<unsigned long long>(seed), with.roll_rms_deg, with.pitch_rms_deg, with.yaw_end_deg,
+                without.yaw_end_deg);
+    CHECK(with.roll_rms_deg <= 1.0);
+    CHECK(with.pitch_rms_deg <= 1.0);
+    CHECK(std::abs(with.yaw_end_deg) <= 2.0);
+    CHECK(without.roll_rms_deg <= 1.0);
+    CHECK(without.pitch_rms_deg <= 1.0);
+    CHECK(std::abs(without.yaw_end_deg) <= 5.0);
+  }
+}
+
+TEST_CASE("Mahony without the bias-at-rest estimate drifts in yaw without a magnetometer", "[imu]") {
+  // The control for the test above: it is the at-rest bias that holds the heading.
+  const test::SimWalk& w = test::sim_walk(1);
+  MahonyOptions o;
+  o.use_magnetometer = false;
+  o.bias_at_rest = false;
+  o.ki = 0.0;
+  MahonyFilter f(o);
+  for (const ImuSample& s : w.imu) f.update(s);
+  const sim::BodyState end = w.simulator.truth(ns_to_seconds(w.imu.back().t));
+  const double drift_deg = std::abs(std::remainder(f.yaw() - end.yaw, 2 * std::numbers::pi)) * 180 / std::numbers::pi;
+  CHECK(drift_deg > 5.0);  // the sim's z gyro bias integrates over 90 s
+}
+
+TEST_CASE("Mahony ignores a magnetic disturbance and adopts a lasting new field", "[imu]") {
+  MahonyOptions opt;
+  opt.mag_rejection_timeout_s = 5.0;
+  MahonyFilter f(opt);
+  const Eigen::Matrix3d R = ypr(0.3, 0.0, 0.0);
+  TimeNs t = 0;
+  auto feed = [&](double seconds, const Eigen::Vector3d& field_inW) {
+    for (int k = 0; k < seconds * 100; ++k, t += 10'000'000) {
+      ImuSample s = static_sample(R, t, Eigen::Vector3d::Zero());
+      s.mag_inB = R.transpose() * field_inW;
+      f.update(s);
+    }
+  };
+  feed(3.0, {0, 22, -42});
+  REQUIRE(f.yaw() == Approx(0.3).margin(1e-3));
+  // A steel cabinet: weaker field pointing elsewhere, for 3 s (< timeout): heading holds.
+  feed(3.0, {15, 10, -30});
+  CHECK(f.mag_rejected_samples() > 250);
+  CHECK(f.yaw() == Approx(0.3).margin(1e-3));
+  // Lasting: after the timeout the new field is the reference and the heading follows it.
+  feed(30.0, {15, 10, -30});
+  const double yaw_new = 0.3 + std::atan2(15.0, 10.0);  // north now reads as this heading
+  CHECK(std::abs(std::remainder(f.yaw() - yaw_new, 2 * std::numbers::pi)) < 0.05);
+}
+
+TEST_CASE("Mahony agrees with the Fusion AHRS reference on the real fusion_ahrs log", "[imu]") {
+  const auto dir = test::shared_dir() / "realdata" / "fusion_ahrs";
+  if (!std::filesystem::exists(dir / "imu.csv")) {
+    WARN("real data missing: " << dir.string());
+    return;
+  }
+  CsvReader imu((dir / "imu.csv").string()), ref((dir / "reference_attitude.csv").string());
+  const int c[10] = {imu.require_column("t"),  imu.require_column("ax"), imu.require_column("ay"),
+                     imu.require_column("az"), imu.require_column("gx"), imu.require_column("gy"),
+                     imu.require_column("gz"), imu.require_column("mx"), imu.require_column("my"),
+                     imu.require_column("mz")};
+  const int rr = ref.require_column("roll_deg"), rp = ref.require_column("pitch_deg"),
+            ry = ref.require_column("yaw_nwu_deg"), rt = ref.require_column("t");
+  MahonyFilter f;
+  double sr = 0, sp = 0, sy = 0, max_r = 0, max_p = 0, max_y = 0;
+  std::size_t n = 0, n_yaw = 0;
+  auto wrap_deg = [](double a) { return std::remainder(a, 360.0); };
+  while (imu.next_row() && ref.next_row()) {
+    const double t = imu.number(c[0]);
+    REQUIRE(ref.number(rt) == Approx(t).margin(1e-6));
+    ImuSample s;
+    s.t = seconds_to_ns(t);
+    s.acc_inB = {imu.number(c[1]), imu.number(c[2]), imu.number(c[3])};
+    s.gyro_inB = {imu.number(c[4]), imu.number(c[5]), imu.number(c[6])};
+    s.mag_inB = {imu.number(c[7]), imu.number(c[8]), imu.number(c[9])};
+    s.has_mag = true;
+    f.update(s);
+    if (t < 5.0) continue;  // both filters converge from their own start
+    constexpr double deg = 180.0 / std::numbers::pi;
+    const double er = wrap_deg(f.roll() * deg - ref.number(rr)), ep = wrap_deg(f.pitch() * deg - ref.number(rp));
+    sr += er * er, sp += ep * ep, ++n;
+    max_r = std::max(max_r, std::abs(er)), max_p = std::max(max_p, std::abs(ep));
+    // README: yaw_enu = yaw_nwu + 90. From ~102 s the field magnitude drops from ~44 to ~38 uT
+    // while the sensor lies still; Fusion adopts the disturbed field after its 5 s rejection
+    // timeout (its yaw swings by 150 deg with no rotation), so its yaw is no reference there.
+    if (t < 100.0) {
+      const double ey = wrap_deg(f.yaw() * deg - (ref.number(ry) + 90.0));
+      sy += ey * ey, ++n_yaw;
+      max_y = std::max(max_y, std::abs(ey));
+    }
+  }
+  REQUIRE(n > 10000);
+  const double rms_r = std::sqrt(sr / n), rms_p = std::sqrt(sp / n), rms_y = std::sqrt(sy / n_yaw);
+  std::printf("[imu] fusion_ahrs vs reference: roll rms %.2f max %.2f, pitch rms %.2f max %.2f, yaw (t<100 s) rms %.2f "
+              "max %.2f deg\n",
+              rms_r, max_r, rms_p, max_p, rms_y, max_y);
+  CHECK(rms_r < 1.0);
+  CHECK(rms_p < 1.0);
+  CHECK(max_r < 3.0);
+  CHECK(max_p < 3.0);
+  CHECK(rms_y < 3.0);
+  CHECK(max_y < 6.0);
 }

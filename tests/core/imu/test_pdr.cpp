@@ -1,0 +1,85 @@
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+
+#include "core/imu/mahony_filter.hpp"
+#include "core/imu/pdr.hpp"
+#include "core/imu/step_matching.hpp"
+#include "sim_walk.hpp"
+
+using namespace luxloc;
+
+namespace {
+
+struct PdrRun {
+  StepMatch match;
+  double walked_m = 0, end_error_m = 0, distance_m = 0;
+  std::vector<Step> steps;
+};
+
+PdrRun run_pdr(const test::SimWalk& w, bool use_mag) {
+  MahonyOptions mo;
+  mo.use_magnetometer = use_mag;
+  MahonyFilter ahrs(mo);
+  PedestrianDeadReckoning pdr;
+  const sim::BodyState start = w.simulator.truth(0.0);
+  pdr.set_position(start.p_BinW.head<2>());
+  PdrRun r;
+  std::vector<double> detected;
+  auto take = [&] {
+    while (auto s = pdr.pop_step()) {
+      detected.push_back(ns_to_seconds(s->t));
+      r.steps.push_back(*s);
+    }
+  };
+  for (const ImuSample& s : w.imu) {
+    ahrs.update(s);
+    pdr.update(s, ahrs.R_BtoW());
+    take();
+  }
+  pdr.finish();
+  take();
+  r.match = match_steps(detected, w.simulator.step_times());
+  const double t_end = ns_to_seconds(w.imu.back().t);
+  for (double t = 0.01; t <= t_end + 1e-9; t += 0.01)
+    r.walked_m += (w.simulator.truth(t).p_BinW - w.simulator.truth(t - 0.01).p_BinW).head<2>().norm();
+  r.end_error_m = (pdr.position() - w.simulator.truth(t_end).p_BinW.head<2>()).norm();
+  r.distance_m = pdr.distance_m();
+  return r;
+}
+
+}  // namespace
+
+TEST_CASE("PDR on the simulated walk: >= 98 % of the steps, <= 2 % false, end within 5 % of the distance", "[imu]") {
+  for (const bool mag : {true, false}) {
+    const PdrRun r = run_pdr(test::sim_walk(1), mag);
+    std::printf("[imu] PDR walk (mag %d): %zu/%zu steps (%.1f %%), %zu false (%.1f %%), walked %.2f m, PDR %.2f m, "
+                "end error %.2f m (%.2f %%)\n",
+                mag, r.match.matched, r.match.truth, 100 * r.match.recall(), r.match.false_steps(),
+                100 * r.match.false_rate(), r.walked_m, r.distance_m, r.end_error_m, 100 * r.end_error_m / r.walked_m);
+    CHECK(r.match.truth > 140);
+    CHECK(r.match.recall() >= 0.98);
+    CHECK(r.match.false_rate() <= 0.02);
+    CHECK(r.end_error_m <= 0.05 * r.walked_m);
+    // Every step carries usable uncertainty for a particle filter.
+    for (const Step& s : r.steps) {
+      REQUIRE(s.length_sigma_m > 0.0);
+      REQUIRE(s.heading_sigma_rad > 0.0);
+      REQUIRE(std::isfinite(s.heading_rad));
+    }
+  }
+}
+
+TEST_CASE("PDR headings follow the walk's legs (first leg heads east)", "[imu]") {
+  const PdrRun r = run_pdr(test::sim_walk(1), true);
+  REQUIRE(r.steps.size() > 5);
+  // The walk starts at (3, 1) heading east along y = 1 to the corner near (7, 1).
+  for (int k = 0; k < 4; ++k) CHECK(std::abs(r.steps[k].heading_rad) < 0.06);
+}
+
+TEST_CASE("PDR on the slow square walk (0.6 m/s, small swings) keeps the step count", "[imu]") {
+  const PdrRun r = run_pdr(test::sim_walk(1, "square"), true);
+  CHECK(r.match.recall() >= 0.98);
+  CHECK(r.match.false_rate() <= 0.02);
+}
