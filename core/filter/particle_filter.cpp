@@ -3,92 +3,255 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-#include <tbb/parallel_reduce.h>
+#include <cstring>
+#include <limits>
+#include <numbers>
 
 #include "core/filter/fast_rng.hpp"
+#include "core/filter/lane_rng.hpp"
+#include "core/filter/simd8.hpp"
 
 namespace luxloc {
 namespace {
 
-constexpr std::size_t kChunk = 4096;  // fixed chunking -> deterministic random streams
+// Block of particles processed with Eigen array expressions: stays in L1, and its start is
+// 32-byte aligned (chunks and blocks start at multiples of 256 floats).
+constexpr std::size_t kBlock = 256;
+static_assert(kParticleChunk % kBlock == 0);
+using BlockF = Eigen::Array<float, Eigen::Dynamic, 1, 0, static_cast<int>(kBlock), 1>;
+using MapF = Eigen::Map<Eigen::ArrayXf, Eigen::AlignedMax>;
+using CMapF = Eigen::Map<const Eigen::ArrayXf, Eigen::AlignedMax>;
+using CMapU = Eigen::Map<const Eigen::ArrayXf>;  // unaligned (noise halves)
 
-template <typename F>
-void for_each_chunk(std::size_t n, F&& f) {
-  const std::size_t chunks = (n + kChunk - 1) / kChunk;
-  if (chunks <= 1) {
-    if (n) f(std::size_t{0}, std::size_t{0}, n);
-    return;
+constexpr float kNegInf = -std::numeric_limits<float>::infinity();
+// Below this exp() is denormal or zero in single precision: count it as zero.
+constexpr float kExpFloor = -87.0f;
+
+Eigen::Index idx(std::size_t n) { return static_cast<Eigen::Index>(n); }
+
+}  // namespace
+
+void ParticleFilter::Moments::add(const Moments& o) {
+  w += o.w; x += o.x; y += o.y; vx += o.vx; vy += o.vy; xx += o.xx; xy += o.xy; yy += o.yy;
+}
+
+namespace {
+
+// Weighted (w != nullptr) or unweighted sums over one block, positions relative to (rx, ry).
+template <typename X, typename Y, typename VX, typename VY>
+void accumulate_block(double* m, const X& x, const Y& y, const VX& vx, const VY& vy, const float* w,
+                      std::size_t len, float rx, float ry) {
+  const BlockF dx = x - rx;
+  const BlockF dy = y - ry;
+  if (w) {
+    const CMapF W(w, idx(len));
+    const BlockF wdx = W * dx, wdy = W * dy;
+    m[0] += W.sum();
+    m[1] += wdx.sum();
+    m[2] += wdy.sum();
+    m[3] += (W * vx).sum();
+    m[4] += (W * vy).sum();
+    m[5] += (wdx * dx).sum();
+    m[6] += (wdx * dy).sum();
+    m[7] += (wdy * dy).sum();
+  } else {
+    m[0] += static_cast<double>(len);
+    m[1] += dx.sum();
+    m[2] += dy.sum();
+    m[3] += vx.sum();
+    m[4] += vy.sum();
+    m[5] += dx.square().sum();
+    m[6] += (dx * dy).sum();
+    m[7] += dy.square().sum();
   }
-  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
-    f(c, c * kChunk, std::min(n, (c + 1) * kChunk));
-  });
 }
 
 }  // namespace
 
 ParticleFilter::ParticleFilter(const ParticleFilterOptions& options) : options_(options) {
   options_.particles = std::max<std::size_t>(options_.particles, 10);
+  if (options_.kld.enabled) {
+    options_.kld.min_particles = std::max<std::size_t>(options_.kld.min_particles, 10);
+    options_.kld.max_particles = std::min<std::size_t>(std::max(options_.kld.max_particles, options_.kld.min_particles),
+                                                       std::numeric_limits<std::uint32_t>::max());
+    options_.particles = std::clamp(options_.particles, options_.kld.min_particles, options_.kld.max_particles);
+  }
+  options_.particles = std::min<std::size_t>(options_.particles, std::numeric_limits<std::uint32_t>::max());
+}
+
+void ParticleFilter::reset_weights_uniform() {
+  uniform_ = true;
+  log_norm_ = 0.0;
+  log_w_max_ = 0.0f;
+  n_eff_ = static_cast<double>(set_.size());
 }
 
 void ParticleFilter::initialize(const Eigen::Vector2d& p, const Eigen::Matrix2d& cov_p) {
+  if (!p.allFinite()) return;
   const std::size_t n = options_.particles;
   set_.resize(n);
-  const Eigen::Matrix2d L = cov_p.llt().matrixL();
+  origin_ = p;
+  // Cholesky factor of the spread; a covariance that is not positive definite falls back
+  // to its (absolute) diagonal.
+  Eigen::Matrix2d L = Eigen::Matrix2d::Zero();
+  const Eigen::LLT<Eigen::Matrix2d> llt(0.5 * (cov_p + cov_p.transpose()));
+  if (cov_p.allFinite() && llt.info() == Eigen::Success) {
+    L = llt.matrixL();
+  } else if (cov_p.allFinite()) {
+    L.diagonal() = cov_p.diagonal().cwiseAbs().cwiseSqrt();
+  }
+  const float l00 = static_cast<float>(L(0, 0)), l10 = static_cast<float>(L(1, 0)),
+              l11 = static_cast<float>(L(1, 1)), sv = static_cast<float>(options_.init_speed_sigma);
   const std::uint64_t step = ++step_;
-  for_each_chunk(n, [&](std::size_t c, std::size_t b, std::size_t e) {
-    FastRng rng = FastRng::stream(options_.seed, step, c);
-    for (std::size_t i = b; i < e; ++i) {
-      const Eigen::Vector2d d = L * Eigen::Vector2d(rng.normal(), rng.normal());
-      set_.x[i] = p.x() + d.x();
-      set_.y[i] = p.y() + d.y();
-      set_.vx[i] = options_.init_speed_sigma * rng.normal();
-      set_.vy[i] = options_.init_speed_sigma * rng.normal();
-      set_.log_w[i] = 0.0;
-      set_.w[i] = 1.0 / static_cast<double>(n);
+  for_each_particle_chunk(n, [&](std::size_t c, std::size_t b, std::size_t e) {
+    LaneRng rng(options_.seed, step, c);
+    alignas(32) float noise[4 * kBlock];
+    for (std::size_t blk = b; blk < e; blk += kBlock) {
+      const std::size_t len = std::min(kBlock, e - blk);
+      rng.fill_normal(noise, LaneRng::round_up(4 * len, 16));
+      const CMapU n1(noise, idx(len)), n2(noise + len, idx(len)), n3(noise + 2 * len, idx(len)),
+          n4(noise + 3 * len, idx(len));
+      MapF(set_.x.data() + blk, idx(len)) = l00 * n1;
+      MapF(set_.y.data() + blk, idx(len)) = l10 * n1 + l11 * n2;
+      MapF(set_.vx.data() + blk, idx(len)) = sv * n3;
+      MapF(set_.vy.data() + blk, idx(len)) = sv * n4;
     }
   });
-  n_eff_ = static_cast<double>(n);
+  reset_weights_uniform();
+  averages_.reset();  // a new prior: the old likelihood level says nothing about it
   consecutive_rejections_ = 0;
   initialized_ = true;
-  update_estimate();
+  ref_x_ = ref_y_ = 0.0f;
+  compute_moments();
 }
 
 void ParticleFilter::predict(const MotionInput& u) {
   if (!initialized_ || !(u.dt > 0.0) || !std::isfinite(u.dt)) return;
   const double dt = u.dt;
   const Eigen::Vector2d a = (u.has_acc && u.acc_inW.allFinite()) ? u.acc_inW : Eigen::Vector2d::Zero();
-  const double sigma_v = std::sqrt(options_.accel_noise_psd * dt);
-  const double decay = options_.velocity_tau_s > 0 ? std::exp(-dt / options_.velocity_tau_s) : 1.0;
-  const double vmax = options_.max_speed;
+  const float sigma_v = static_cast<float>(std::sqrt(std::max(0.0, options_.accel_noise_psd) * dt));
+  const float decay =
+      static_cast<float>(options_.velocity_tau_s > 0 ? std::exp(-dt / options_.velocity_tau_s) : 1.0);
+  const float ax_dt = static_cast<float>(a.x() * dt), ay_dt = static_cast<float>(a.y() * dt);
+  const float half_dt = static_cast<float>(0.5 * dt);
+  const float vmax = static_cast<float>(options_.max_speed);
+  const bool clamp = vmax > 0.0f && std::isfinite(vmax);
   const std::uint64_t step = ++step_;
-  for_each_chunk(set_.size(), [&](std::size_t c, std::size_t b, std::size_t e) {
-    FastRng rng = FastRng::stream(options_.seed, step, c);
-    for (std::size_t i = b; i < e; ++i) {
-      // Constant velocity driven by the measured acceleration plus white noise
-      // (SEEDS.md B.2, planar inertial integration), trapezoidal position update.
-      const double vx0 = set_.vx[i], vy0 = set_.vy[i];
-      double vx = (vx0 + a.x() * dt) * decay + sigma_v * rng.normal();
-      double vy = (vy0 + a.y() * dt) * decay + sigma_v * rng.normal();
-      const double s2 = vx * vx + vy * vy;
-      if (s2 > vmax * vmax) {
-        const double k = vmax / std::sqrt(s2);
+  const std::size_t n = set_.size();
+  moments_.assign(particle_chunks(n), Moments{});
+  const float rx = ref_x_, ry = ref_y_;
+  const bool weighted = !uniform_;
+  for_each_particle_chunk(n, [&](std::size_t c, std::size_t b, std::size_t e) {
+    LaneRng rng(options_.seed, step, c);
+    alignas(32) float noise[2 * kBlock];
+    alignas(32) float wbuf[kBlock];
+    double m[8] = {};
+    for (std::size_t blk = b; blk < e; blk += kBlock) {
+      const std::size_t len = std::min(kBlock, e - blk);
+      rng.fill_normal(noise, LaneRng::round_up(2 * len, 16));
+      MapF X(set_.x.data() + blk, idx(len)), Y(set_.y.data() + blk, idx(len));
+      MapF VX(set_.vx.data() + blk, idx(len)), VY(set_.vy.data() + blk, idx(len));
+      // Velocity driven by the measured acceleration plus white noise, decaying towards
+      // zero (SEEDS.md B.2, planar inertial integration); trapezoidal position update.
+      BlockF vx = (VX + ax_dt) * decay + sigma_v * CMapU(noise, idx(len));
+      BlockF vy = (VY + ay_dt) * decay + sigma_v * CMapU(noise + len, idx(len));
+      if (clamp) {
+        // k = min(1, vmax / |v|): no select(), which Eigen 3.4 leaves scalar.
+        const BlockF k = (vmax * (vx.square() + vy.square()).max(1e-30f).rsqrt()).min(1.0f);
         vx *= k;
         vy *= k;
       }
-      set_.x[i] += 0.5 * (vx0 + vx) * dt;
-      set_.y[i] += 0.5 * (vy0 + vy) * dt;
-      set_.vx[i] = vx;
-      set_.vy[i] = vy;
+      X += half_dt * (VX + vx);
+      Y += half_dt * (VY + vy);
+      VX = vx;
+      VY = vy;
+      // The estimate's moments while the block is in registers/L1.
+      if (weighted) weights_into(blk, len, wbuf);
+      accumulate_block(m, X, Y, VX, VY, weighted ? wbuf : nullptr, len, rx, ry);
     }
+    moments_[c] = Moments{m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7]};
   });
-  update_estimate();
+  finish_estimate(moments_);
+}
+
+ParticleFilter::ChunkWeights ParticleFilter::exp_chunk(const float* log_w, std::size_t n) {
+  ChunkWeights r;
+  r.max = CMapF(log_w, idx(n)).maxCoeff();
+  if (!(r.max > kNegInf)) {
+    r.max = kNegInf;
+    return r;
+  }
+  using simd8::F8;
+  const std::size_t n8 = n / 8 * 8;
+  F8 s{}, s2{};
+  for (std::size_t i = 0; i < n8; i += 8) {
+    const F8 e = simd8::exp_nonpositive(simd8::load(log_w + i) - r.max);
+    s += e;
+    s2 += e * e;
+  }
+  for (int l = 0; l < 8; ++l) {
+    r.sum += s[l];
+    r.sum2 += s2[l];
+  }
+  for (std::size_t i = n8; i < n; ++i) {
+    const float d = log_w[i] - r.max;
+    const double e = d > kExpFloor ? std::exp(static_cast<double>(d)) : 0.0;
+    r.sum += e;
+    r.sum2 += e * e;
+  }
+  return r;
+}
+
+void ParticleFilter::weights_into(std::size_t i, std::size_t n, float* w) const {
+  const float norm = static_cast<float>(log_norm_);
+  const std::size_t n8 = n / 8 * 8;
+  for (std::size_t k = 0; k < n8; k += 8)
+    simd8::store(w + k, simd8::exp_nonpositive(simd8::load(log_w_.data() + i + k) - norm));
+  for (std::size_t k = n8; k < n; ++k) {
+    const float d = log_w_[i + k] - norm;
+    w[k] = d > kExpFloor ? std::exp(d) : 0.0f;
+  }
+}
+
+bool ParticleFilter::commit_weights() {
+  float M = kNegInf;
+  for (const ChunkWeights& c : chunk_w_next_) M = std::max(M, c.max);
+  if (!(M > kNegInf) || !std::isfinite(M)) return false;
+  // Global log-sum-exp from the chunk partials, in chunk order.
+  double sum = 0.0, sum2 = 0.0;
+  for (const ChunkWeights& cw : chunk_w_next_) {
+    if (!(cw.max > kNegInf)) continue;
+    const double scale = std::exp(static_cast<double>(cw.max) - static_cast<double>(M));
+    sum += cw.sum * scale;
+    sum2 += cw.sum2 * scale * scale;
+  }
+  if (!(sum > 0.0) || !std::isfinite(sum) || !(sum2 > 0.0)) return false;
+  std::swap(chunk_w_, chunk_w_next_);
+  // log of the prior-weighted mean likelihood (the prior was normalised).
+  log_norm_ = static_cast<double>(M) + std::log(sum);
+  log_w_max_ = M;
+  n_eff_ = sum * sum / sum2;
+  uniform_ = false;
+  estimate_dirty_ = true;
+  if (options_.injection.enabled) averages_.update(log_norm_, options_.injection);
+  return true;
+}
+
+double ParticleFilter::weight(std::size_t i) const {
+  if (uniform_) return 1.0 / static_cast<double>(set_.size());
+  const double d = static_cast<double>(log_w_[i]) - log_norm_;
+  return d > kExpFloor ? std::exp(d) : 0.0;
+}
+
+double ParticleFilter::injection_probability() const {
+  const InjectionOptions& o = options_.injection;
+  if (!o.enabled || o.region.isEmpty()) return 0.0;
+  return averages_.injection_probability(o);
 }
 
 CorrectionResult ParticleFilter::correct(const PositionMeasurement& m) {
   CorrectionResult r;
-  if (!m.z.allFinite() || !m.R.allFinite() || m.R.determinant() <= 0.0) {
+  if (!m.z.allFinite() || !m.R.allFinite() || !(m.R.determinant() > 0.0) || !(m.R(0, 0) > 0.0)) {
     ++rejected_;
     return r;
   }
@@ -98,8 +261,9 @@ CorrectionResult ParticleFilter::correct(const PositionMeasurement& m) {
     return r;
   }
   // Gate against the filter's own spread plus the measurement noise.
-  const Eigen::Vector2d innov = m.z - estimate_.p;
-  const Eigen::Matrix2d S = estimate_.cov_p + m.R;
+  const PlanarEstimate e = estimate();
+  const Eigen::Vector2d innov = m.z - e.p;
+  const Eigen::Matrix2d S = e.cov_p + m.R;
   r.mahalanobis = std::sqrt(innov.dot(S.ldlt().solve(innov)));
   if (!(r.mahalanobis <= m.gate_sigma)) {
     ++rejected_;
@@ -112,132 +276,343 @@ CorrectionResult ParticleFilter::correct(const PositionMeasurement& m) {
     return r;
   }
   // SEEDS.md A, S302: w_i ∝ exp(-d_i^T R^-1 d_i / 2) (the patent's scalar R generalised
-  // to a 2x2 covariance); the constant 1/sqrt(2 pi R) cancels in the normalisation.
+  // to a 2x2 covariance). The constant -log(2 pi sqrt|R|) does not change the weights;
+  // it makes the mean likelihood a density for the injection's averages.
   const Eigen::Matrix2d Ri = m.R.inverse();
-  const double a = Ri(0, 0), b = Ri(0, 1), d = Ri(1, 1);
-  const double zx = m.z.x(), zy = m.z.y();
-  const bool ok = weigh([=](double x, double y) {
-    const double ex = x - zx, ey = y - zy;
-    return -0.5 * (a * ex * ex + 2.0 * b * ex * ey + d * ey * ey);
+  const float a = static_cast<float>(Ri(0, 0)), b = static_cast<float>(Ri(0, 1)), d = static_cast<float>(Ri(1, 1));
+  const float c0 = static_cast<float>(-std::log(2.0 * std::numbers::pi * std::sqrt(m.R.determinant())));
+  const float zx = static_cast<float>(m.z.x() - origin_.x()), zy = static_cast<float>(m.z.y() - origin_.y());
+  const float* x = set_.x.data();
+  const float* y = set_.y.data();
+  const bool ok = weigh_particles([=](std::size_t i) {
+    const float ex = x[i] - zx, ey = y[i] - zy;
+    return c0 - 0.5f * (a * ex * ex + 2.0f * b * ex * ey + d * ey * ey);
   });
-  if (!ok || !normalize_and_resample()) {
+  if (!ok) {
     initialize(m.z, m.R * 4.0);  // every weight underflowed: recover at the fix
     ++reinits_;
     r.accepted = r.reinitialized = true;
     return r;
   }
+  normalize_and_resample();
   consecutive_rejections_ = 0;
   r.accepted = true;
   return r;
 }
 
-bool ParticleFilter::normalize_and_resample() {
+CorrectionResult ParticleFilter::correct_velocity(const VelocityMeasurement& m) {
+  CorrectionResult r;
+  if (!initialized_ || !m.v.allFinite() || !m.R.allFinite() || !(m.R.determinant() > 0.0) || !(m.R(0, 0) > 0.0)) {
+    ++rejected_;
+    return r;
+  }
+  // Gate against the particles' velocity spread (a pass: velocity updates are rare).
   const std::size_t n = set_.size();
-  const double max_lw = tbb::parallel_reduce(
-      tbb::blocked_range<std::size_t>(0, n, 8192), -std::numeric_limits<double>::infinity(),
-      [&](const tbb::blocked_range<std::size_t>& r, double m) {
-        for (std::size_t i = r.begin(); i != r.end(); ++i) m = std::max(m, set_.log_w[i]);
-        return m;
-      },
-      [](double x, double y) { return std::max(x, y); });
-  if (!std::isfinite(max_lw)) return false;
-  // log-sum-exp normalisation; sum of w and of w^2 in one reduction.
-  using Sums = std::pair<double, double>;
-  const Sums sums = tbb::parallel_reduce(
-      tbb::blocked_range<std::size_t>(0, n, 8192), Sums{0.0, 0.0},
-      [&](const tbb::blocked_range<std::size_t>& r, Sums s) {
-        for (std::size_t i = r.begin(); i != r.end(); ++i) {
-          const double w = std::exp(set_.log_w[i] - max_lw);
-          set_.w[i] = w;
-          s.first += w;
-          s.second += w * w;
-        }
-        return s;
-      },
-      [](Sums x, Sums y) { return Sums{x.first + y.first, x.second + y.second}; });
-  if (!(sums.first > 0.0) || !std::isfinite(sums.first)) return false;
-  const double inv = 1.0 / sums.first;
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 16384), [&](const tbb::blocked_range<std::size_t>& r) {
-    for (std::size_t i = r.begin(); i != r.end(); ++i) {
-      set_.w[i] *= inv;
-      set_.log_w[i] = std::log(set_.w[i]);  // keep log weights bounded
+  const double mvx = estimate().v.x(), mvy = estimate().v.y();
+  std::vector<Eigen::Vector3d> part(particle_chunks(n), Eigen::Vector3d::Zero());
+  for_each_particle_chunk(n, [&](std::size_t c, std::size_t b, std::size_t e) {
+    Eigen::Vector3d s = Eigen::Vector3d::Zero();
+    for (std::size_t i = b; i < e; ++i) {
+      const double w = weight(i), dx = set_.vx[i] - mvx, dy = set_.vy[i] - mvy;
+      s += w * Eigen::Vector3d(dx * dx, dx * dy, dy * dy);
     }
+    part[c] = s;
   });
-  n_eff_ = (sums.first * sums.first) / sums.second;  // 1 / sum(w_norm^2)
-  update_estimate();
-  if (options_.resample_every_correction || n_eff_ < options_.resample_threshold * static_cast<double>(n))
+  Eigen::Vector3d s = Eigen::Vector3d::Zero();
+  for (const auto& p : part) s += p;
+  Eigen::Matrix2d P;
+  P << s(0), s(1), s(1), s(2);
+  const Eigen::Vector2d innov = m.v - Eigen::Vector2d(mvx, mvy);
+  r.mahalanobis = std::sqrt(innov.dot((P + m.R).ldlt().solve(innov)));
+  if (!(r.mahalanobis <= m.gate_sigma)) {
+    ++rejected_;
+    return r;
+  }
+  const Eigen::Matrix2d Ri = m.R.inverse();
+  const float a = static_cast<float>(Ri(0, 0)), b = static_cast<float>(Ri(0, 1)), d = static_cast<float>(Ri(1, 1));
+  const float zx = static_cast<float>(m.v.x()), zy = static_cast<float>(m.v.y());
+  const float* vx = set_.vx.data();
+  const float* vy = set_.vy.data();
+  if (!weigh_particles([=](std::size_t i) {
+        const float ex = vx[i] - zx, ey = vy[i] - zy;
+        return -0.5f * (a * ex * ex + 2.0f * b * ex * ey + d * ey * ey);
+      })) {
+    ++rejected_;
+    return r;
+  }
+  normalize_and_resample();
+  r.accepted = true;
+  return r;
+}
+
+bool ParticleFilter::normalize_and_resample() {
+  if (!initialized_) return false;
+  if (uniform_) return true;  // nothing learnt since the last resampling
+  if (options_.resample_every_correction ||
+      n_eff_ < options_.resample_threshold * static_cast<double>(set_.size()))
     resample_now();
   return true;
 }
 
 void ParticleFilter::resample_now() {
-  const std::size_t n = set_.size();
-  const std::uint64_t step = ++step_;
-  resample(options_.scheme, set_.w, FastRng::stream(options_.seed, step, 0xA11CEull).next(), ancestors_);
-  scratch_.resize(n);
-  const double inv_n = 1.0 / static_cast<double>(n);
-  const double log_inv_n = std::log(inv_n);
-  const double jitter = options_.roughening_m;
-  for_each_chunk(n, [&](std::size_t c, std::size_t b, std::size_t e) {
-    FastRng rng = FastRng::stream(options_.seed, step, c + 1);
-    for (std::size_t i = b; i < e; ++i) {
-      const std::uint32_t k = ancestors_[i];
-      scratch_.x[i] = set_.x[k] + (jitter > 0 ? jitter * rng.normal() : 0.0);
-      scratch_.y[i] = set_.y[k] + (jitter > 0 ? jitter * rng.normal() : 0.0);
-      scratch_.vx[i] = set_.vx[k];
-      scratch_.vy[i] = set_.vy[k];
-      // Weights reset after resampling (unlike MRPT 2.5.8, see FIELD_NOTES.md).
-      scratch_.log_w[i] = log_inv_n;
-      scratch_.w[i] = inv_n;
-    }
-  });
-  std::swap(set_, scratch_);
-  n_eff_ = static_cast<double>(n);
+  if (options_.policy == ResamplingPolicy::Genetic) {
+    const std::uint64_t step = ++step_;
+    genetic_stats_ = genetic_resample(set_, log_w_, log_w_max_, options_.genetic, options_.seed, step);
+    reset_weights_uniform();
+    inject_random(step);
+    compute_moments();
+  } else {
+    resample_copy();
+  }
   ++resamples_;
-  update_estimate();
 }
 
-void ParticleFilter::update_estimate() {
-  // Weighted mean and covariance (SEEDS.md A, S303: A'_k = sum_i w_i A_i).
+void ParticleFilter::inject_random(std::uint64_t step) {
+  const double p = injection_probability();
+  if (!(p > 0.0)) return;
+  const Eigen::AlignedBox2d& box = options_.injection.region;
+  const Eigen::Vector2d lo = box.min() - origin_, size = box.sizes();
+  const double sv = options_.init_speed_sigma;
   const std::size_t n = set_.size();
-  struct Acc {
-    double w = 0, x = 0, y = 0, vx = 0, vy = 0, xx = 0, xy = 0, yy = 0;
+  std::vector<std::uint64_t> count(particle_chunks(n), 0);
+  for_each_particle_chunk(n, [&](std::size_t c, std::size_t b, std::size_t e) {
+    FastRng rng = FastRng::stream(options_.seed, step, 0x1000000ull + c);
+    for (std::size_t i = b; i < e; ++i) {
+      if (rng.uniform() >= p) continue;
+      set_.x[i] = static_cast<float>(lo.x() + rng.uniform() * size.x());
+      set_.y[i] = static_cast<float>(lo.y() + rng.uniform() * size.y());
+      set_.vx[i] = static_cast<float>(sv * rng.normal());
+      set_.vy[i] = static_cast<float>(sv * rng.normal());
+      ++count[c];
+    }
+  });
+  std::uint64_t total = 0;
+  for (auto k : count) total += k;
+  injected_ += total;
+  if (total > 0) averages_.reset();
+}
+
+void ParticleFilter::resample_copy() {
+  const std::uint64_t step = ++step_;
+  const std::size_t n = set_.size();
+  std::size_t m = n;
+  const auto draw = [&](std::size_t children) {
+    if (options_.scheme == ResamplingScheme::Systematic) {
+      systematic_ancestors(children, step);
+      return;
+    }
+    std::vector<double> w(n);
+    for_each_particle_chunk(n, [&](std::size_t, std::size_t b, std::size_t e) {
+      for (std::size_t i = b; i < e; ++i) w[i] = weight(i);
+    });
+    resample(options_.scheme, w, FastRng::stream(options_.seed, step, 0xA11CEull).next(), ancestors_, children);
   };
-  // Relative to a reference particle for numerical stability of the second moments.
-  const double x0 = set_.x[0], y0 = set_.y[0];
-  const Acc s = tbb::parallel_reduce(
-      tbb::blocked_range<std::size_t>(0, n, 8192), Acc{},
-      [&](const tbb::blocked_range<std::size_t>& r, Acc a) {
-        for (std::size_t i = r.begin(); i != r.end(); ++i) {
-          const double w = set_.w[i];
-          const double dx = set_.x[i] - x0, dy = set_.y[i] - y0;
-          a.w += w;
-          a.x += w * dx;
-          a.y += w * dy;
-          a.vx += w * set_.vx[i];
-          a.vy += w * set_.vy[i];
-          a.xx += w * dx * dx;
-          a.xy += w * dx * dy;
-          a.yy += w * dy * dy;
-        }
-        return a;
-      },
-      [](Acc a, const Acc& b) {
-        a.w += b.w; a.x += b.x; a.y += b.y; a.vx += b.vx; a.vy += b.vy;
-        a.xx += b.xx; a.xy += b.xy; a.yy += b.yy;
-        return a;
-      });
+  draw(n);
+  if (options_.kld.enabled) {
+    // KLD-sampling: bins occupied by the drawn ancestors decide the next set's size.
+    m = kld_particle_count(count_occupied_bins(set_, ancestors_, options_.kld), options_.kld);
+    if (m != n) draw(m);
+  }
+  gather(step);
+}
+
+void ParticleFilter::systematic_ancestors(std::size_t m, std::uint64_t step) {
+  // Systematic resampling over chunks: child k copies the particle whose scaled
+  // cumulative weight interval holds k + u. Chunk boundaries C[c] come from the chunk
+  // sums; each chunk then places exactly its children [ceil(C[c] - u), ceil(C[c+1] - u)),
+  // so rounding inside a chunk can never lose or duplicate a child.
+  const std::size_t n = set_.size();
+  const std::size_t chunks = particle_chunks(n);
+  std::vector<double> C(chunks + 1, 0.0);
+  const double dm = static_cast<double>(m);
+  for (std::size_t c = 0; c < chunks; ++c) {
+    const ChunkWeights& cw = chunk_w_[c];
+    const double mass = cw.max > kNegInf ? cw.sum * std::exp(static_cast<double>(cw.max) - log_norm_) : 0.0;
+    C[c + 1] = C[c] + dm * mass;
+  }
+  C[chunks] = dm;
+  const double u = FastRng::stream(options_.seed, step, 0xA11CEull).uniform();
+  ancestors_.resize(m);
+  const auto first_child = [&](double cum) {
+    return static_cast<std::size_t>(std::clamp(std::ceil(cum - u), 0.0, dm));
+  };
+  const float norm = static_cast<float>(log_norm_);
+  const float fm = static_cast<float>(m);
+  for_each_particle_chunk(n, [&](std::size_t c, std::size_t b, std::size_t e) {
+    const std::size_t kb = first_child(C[c]);
+    const std::size_t ke = c + 1 == chunks ? m : first_child(C[c + 1]);
+    if (kb >= ke) return;
+    // Branch-free placement: particle i's first child is ceil(cum_{i-1} - u); mark that
+    // child with i + 1 (a later particle with the same first child — the earlier one
+    // has none — overwrites it), then a running maximum gives every child the last
+    // particle marked at or before it.
+    std::uint32_t* anc = ancestors_.data() + kb;
+    const std::size_t count = ke - kb;
+    std::fill(anc, anc + count, 0u);
+    using simd8::F8;
+    using simd8::I8;
+    const F8 fcount = simd8::splat(static_cast<float>(count));
+    std::uint32_t sink = 0;
+    double base = C[c] - u - static_cast<double>(kb);  // in children, relative to kb: (-1, 0]
+    const std::size_t e8 = b + (e - b) / 8 * 8;
+    std::size_t i = b;
+    for (; i < e8; i += 8) {
+      const F8 w = simd8::exp_nonpositive(simd8::load(log_w_.data() + i) - norm) * fm;
+      // Inclusive prefix sum across the 8 lanes (shift-and-add), then exclusive.
+      F8 p = w;
+      p += simd8::shift_up<1>(p);
+      p += simd8::shift_up<2>(p);
+      p += simd8::shift_up<4>(p);
+      const F8 before = (p - w) + static_cast<float>(base);
+      // ceil(before) for before > -1.
+      I8 first = __builtin_convertvector(before, I8);
+      first = __builtin_convertvector(first, F8) < before ? first + 1 : first;
+      // A dead particle, or one past the chunk's last child, marks a local sink.
+      const I8 valid = (w > 0.0f) & (__builtin_convertvector(first, F8) < fcount);
+      for (int l = 0; l < 8; ++l) {
+        std::uint32_t* dst = valid[l] ? anc + std::max(first[l], 0) : &sink;
+        *dst = static_cast<std::uint32_t>(i + static_cast<std::size_t>(l) + 1);
+      }
+      base += static_cast<double>(p[7]);
+    }
+    for (; i < e; ++i) {
+      const float d = log_w_[i] - norm;
+      const double w = d > kExpFloor ? std::exp(static_cast<double>(d)) * dm : 0.0;
+      const double first = std::ceil(base);
+      if (w > 0.0 && first < static_cast<double>(count))
+        anc[static_cast<std::size_t>(std::max(first, 0.0))] = static_cast<std::uint32_t>(i + 1);
+      base += w;
+    }
+    // Running maximum (eight at a time: in-register prefix max, then the carry), minus 1.
+    using simd8::U8;
+    U8 carry = U8{} + static_cast<std::uint32_t>(b + 1);  // never unset, even if anc[0] were
+    const std::size_t c8 = count / 8 * 8;
+    std::size_t k = 0;
+    for (; k < c8; k += 8) {
+      U8 v;
+      std::memcpy(&v, anc + k, sizeof v);
+      const auto vmax = [](U8 a, U8 b2) { return a > b2 ? a : b2; };
+      v = vmax(v, simd8::shift_up<1>(v));
+      v = vmax(v, simd8::shift_up<2>(v));
+      v = vmax(v, simd8::shift_up<4>(v));
+      v = vmax(v, carry);
+      carry = U8{} + v[7];
+      const U8 out = v - 1u;
+      std::memcpy(anc + k, &out, sizeof out);
+    }
+    std::uint32_t last = carry[0];
+    for (; k < count; ++k) {
+      last = std::max(last, anc[k]);
+      anc[k] = last - 1;
+    }
+  });
+}
+
+void ParticleFilter::gather(std::uint64_t step) {
+  const std::size_t m = ancestors_.size();
+  scratch_.resize(m);
+  const float jitter = static_cast<float>(options_.roughening_m);
+  moments_.assign(particle_chunks(m), Moments{});
+  const float rx = ref_x_, ry = ref_y_;
+  for_each_particle_chunk(m, [&](std::size_t c, std::size_t b, std::size_t e) {
+    LaneRng rng(options_.seed, step, c);
+    alignas(32) float noise[2 * kBlock];
+    double mom[8] = {};
+    const std::uint32_t* anc = ancestors_.data();
+    for (std::size_t blk = b; blk < e; blk += kBlock) {
+      const std::size_t len = std::min(kBlock, e - blk);
+      float* sx = scratch_.x.data() + blk;
+      float* sy = scratch_.y.data() + blk;
+      float* svx = scratch_.vx.data() + blk;
+      float* svy = scratch_.vy.data() + blk;
+      for (std::size_t k = 0; k < len; ++k) {
+        const std::uint32_t i = anc[blk + k];
+        sx[k] = set_.x[i];
+        sy[k] = set_.y[i];
+        svx[k] = set_.vx[i];
+        svy[k] = set_.vy[i];
+      }
+      MapF X(sx, idx(len)), Y(sy, idx(len));
+      if (jitter > 0.0f) {
+        // Roughening (Gordon et al. 1993) against copies collapsing onto one point; a
+        // triangular kernel with the same sigma (the shape is immaterial at mm scale).
+        rng.fill_triangular(noise, LaneRng::round_up(2 * len, 8));
+        X += jitter * CMapU(noise, idx(len));
+        Y += jitter * CMapU(noise + len, idx(len));
+      }
+      accumulate_block(mom, X, Y, CMapF(svx, idx(len)), CMapF(svy, idx(len)), nullptr, len, rx, ry);
+    }
+    moments_[c] = Moments{mom[0], mom[1], mom[2], mom[3], mom[4], mom[5], mom[6], mom[7]};
+  });
+  std::swap(set_.x, scratch_.x);
+  std::swap(set_.y, scratch_.y);
+  std::swap(set_.vx, scratch_.vx);
+  std::swap(set_.vy, scratch_.vy);
+  reset_weights_uniform();
+  if (injection_probability() > 0.0) {
+    inject_random(step);  // rare: recompute the moments rather than fold it in above
+    compute_moments();
+  } else {
+    finish_estimate(moments_);
+  }
+}
+
+void ParticleFilter::compute_moments() const {
+  const std::size_t n = set_.size();
+  moments_.assign(particle_chunks(n), Moments{});
+  const float rx = ref_x_, ry = ref_y_;
+  const bool weighted = !uniform_;
+  for_each_particle_chunk(n, [&](std::size_t c, std::size_t b, std::size_t e) {
+    alignas(32) float wbuf[kBlock];
+    double m[8] = {};
+    for (std::size_t blk = b; blk < e; blk += kBlock) {
+      const std::size_t len = std::min(kBlock, e - blk);
+      if (weighted) weights_into(blk, len, wbuf);
+      accumulate_block(m, CMapF(set_.x.data() + blk, idx(len)), CMapF(set_.y.data() + blk, idx(len)),
+                       CMapF(set_.vx.data() + blk, idx(len)), CMapF(set_.vy.data() + blk, idx(len)),
+                       weighted ? wbuf : nullptr, len, rx, ry);
+    }
+    moments_[c] = Moments{m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7]};
+  });
+  finish_estimate(moments_);
+}
+
+void ParticleFilter::finish_estimate(const std::vector<Moments>& per_chunk) const {
+  // Weighted mean and covariance (SEEDS.md A, S303: A'_k = sum_i w_i A_i), chunk partials
+  // summed in chunk order (deterministic).
+  Moments s;
+  for (const Moments& m : per_chunk) s.add(m);
+  estimate_dirty_ = false;
   if (!(s.w > 0.0) || !std::isfinite(s.w)) {
     estimate_.valid = false;
     return;
   }
   const double mx = s.x / s.w, my = s.y / s.w;
-  estimate_.p = {x0 + mx, y0 + my};
-  estimate_.v = {s.vx / s.w, s.vy / s.w};
-  estimate_.cov_p << s.xx / s.w - mx * mx, s.xy / s.w - mx * my, s.xy / s.w - mx * my, s.yy / s.w - my * my;
-  estimate_.cov_p += Eigen::Matrix2d::Identity() * 1e-12;
-  estimate_.n_eff = n_eff_;
-  estimate_.valid = estimate_.p.allFinite();
+  Eigen::Matrix2d cov;
+  cov << s.xx / s.w - mx * mx, s.xy / s.w - mx * my, s.xy / s.w - mx * my, s.yy / s.w - my * my;
+  cov.diagonal() = cov.diagonal().cwiseMax(0.0);
+  cov += Eigen::Matrix2d::Identity() * 1e-12;
+  PlanarEstimate e;
+  e.p = origin_ + Eigen::Vector2d(ref_x_ + mx, ref_y_ + my);
+  e.v = {s.vx / s.w, s.vy / s.w};
+  e.cov_p = cov;
+  e.n_eff = n_eff_;
+  e.valid = e.p.allFinite() && e.v.allFinite() && cov.allFinite();
+  if (!e.valid) {
+    estimate_.valid = false;
+    return;
+  }
+  estimate_ = e;
+  // Next passes take their moments about the current mean.
+  ref_x_ = static_cast<float>(e.p.x() - origin_.x());
+  ref_y_ = static_cast<float>(e.p.y() - origin_.y());
+}
+
+PlanarEstimate ParticleFilter::estimate() const {
+  if (initialized_ && estimate_dirty_) compute_moments();
+  PlanarEstimate e = estimate_;
+  e.n_eff = n_eff_;
+  return e;
 }
 
 }  // namespace luxloc

@@ -1,25 +1,40 @@
 #pragma once
-// Sequential importance resampling particle filter over the planar state
-// (x, y, vx, vy) — SEEDS.md A, S3. Particles are a structure of arrays; propagation,
-// weighting and normalisation run on TBB over fixed-size chunks, each with its own
-// random stream keyed by (seed, step, chunk), so results do not depend on thread count.
-// Weights are kept in log space; a correction that every particle finds implausible is
-// gated, and a filter that keeps rejecting fixes re-initialises around them.
+// Sequential importance resampling particle filter over the planar state (x, y, vx, vy)
+// — SEEDS.md A, S3 — with SEEDS.md B.5's genetic resampling as an alternative policy,
+// KLD-sampling (adaptive particle count) and random-particle injection (kidnapping).
+//
+// Speed (issue #5: 100k particles <= 1 ms a step on 2 cores, <= 15 ns per particle-step on
+// one): single-precision structure of arrays; each pass over the particles does all the
+// work that needs that data (propagation + the weighted moments of the estimate;
+// likelihood + log-sum-exp partials; resampling gather + moments), on TBB over fixed
+// 4096-particle chunks with random streams keyed by (seed, step, chunk), combined in
+// chunk order: results are bit-identical whatever the thread count. Log weights are kept
+// unnormalised with one scalar normaliser, so normalising costs O(chunks), not a log per
+// particle; the estimate is folded into those passes, or computed on demand.
 #include <Eigen/Core>
 #include <cstdint>
-#include <span>
 #include <vector>
 
+#include "core/filter/genetic_resampler.hpp"
+#include "core/filter/kld_sampling.hpp"
+#include "core/filter/particle_injection.hpp"
+#include "core/filter/particle_set.hpp"
 #include "core/filter/planar_filter.hpp"
 #include "core/filter/resampling.hpp"
 
 namespace luxloc {
 
+enum class ResamplingPolicy {
+  Copy,     // copy the ancestors drawn by `scheme` (SEEDS.md A, S303), then roughen
+  Genetic,  // SEEDS.md B.5: crossover + mutation of the decayed particles
+};
+
 struct ParticleFilterOptions {
-  std::size_t particles = 2000;
+  std::size_t particles = 2000;  // initial count (fixed unless kld.enabled)
   std::uint64_t seed = 1;
+  ResamplingPolicy policy = ResamplingPolicy::Copy;
   ResamplingScheme scheme = ResamplingScheme::Systematic;
-  // Resample when n_eff < threshold * N; seed A resamples after every correction (1.0+).
+  // Resample when n_eff < threshold * N; seed A resamples after every correction.
   double resample_threshold = 0.5;
   bool resample_every_correction = false;  // seed A, S303
   // Process noise: white acceleration noise PSD (m^2/s^3) on the velocity.
@@ -29,21 +44,14 @@ struct ParticleFilterOptions {
   double velocity_tau_s = 3.0;
   double max_speed = 3.0;        // m/s, particles above are clamped (a walking device)
   double init_speed_sigma = 0.3; // m/s
-  // After resampling, jitter positions by this many metres (1 sigma) against impoverishment.
+  // After copy resampling, jitter positions by this many metres (1 sigma) against
+  // impoverishment.
   double roughening_m = 0.003;
   // Lost-track recovery: this many consecutive gated fixes re-initialise the filter.
   int max_consecutive_rejections = 8;
-};
-
-// Structure of arrays: one vector per state component.
-struct ParticleSet {
-  std::vector<double> x, y, vx, vy;
-  std::vector<double> log_w;  // unnormalised log weights
-  std::vector<double> w;      // normalised weights (valid after normalize())
-  std::size_t size() const { return x.size(); }
-  void resize(std::size_t n) {
-    x.resize(n); y.resize(n); vx.resize(n); vy.resize(n); log_w.resize(n); w.resize(n);
-  }
+  GeneticOptions genetic;      // policy == Genetic
+  KldOptions kld;              // adaptive particle count (Copy policy)
+  InjectionOptions injection;  // random particles when the likelihood drops (needs a region)
 };
 
 class ParticleFilter final : public PlanarFilter {
@@ -54,37 +62,93 @@ class ParticleFilter final : public PlanarFilter {
   bool initialized() const override { return initialized_; }
   void predict(const MotionInput& u) override;
   CorrectionResult correct(const PositionMeasurement& m) override;
-  PlanarEstimate estimate() const override { return estimate_; }
+  CorrectionResult correct_velocity(const VelocityMeasurement& m) override;
+  // Cached; recomputed (one pass) only when a correction changed the weights without
+  // resampling. Not safe to call concurrently with itself.
+  PlanarEstimate estimate() const override;
 
-  // Multiplies every particle's weight by exp(log_likelihood(x, y)) — the generic
-  // measurement update (tight coupling passes a reprojection likelihood here). Returns
-  // false (and leaves the weights alone) when every particle's likelihood underflows.
+  // Multiplies every particle's weight by exp(log_likelihood(x, y)) (world coordinates,
+  // doubles) — the generic measurement update (tight coupling passes a reprojection
+  // likelihood here) — and normalises. Returns false and leaves the weights alone when
+  // every particle's likelihood underflows (-inf or NaN).
   template <typename LogLikelihood>
   bool weigh(const LogLikelihood& log_likelihood);
 
-  // Normalises the weights (log-sum-exp), updates n_eff and the estimate, resamples if
-  // needed. False when the weights degenerated (all -inf / NaN).
+  // Resamples if the policy asks for it (n_eff below threshold, or every correction).
+  // False only before initialisation. (The weights are normalised by weigh() already.)
   bool normalize_and_resample();
 
+  // Particle access (world frame). weight(i) is the normalised weight.
+  std::size_t size() const { return set_.size(); }
+  Eigen::Vector2d position(std::size_t i) const {
+    return origin_ + Eigen::Vector2d(set_.x[i], set_.y[i]);
+  }
+  Eigen::Vector2d velocity(std::size_t i) const { return {set_.vx[i], set_.vy[i]}; }
+  double weight(std::size_t i) const;
+  // Raw state: positions relative to origin().
   const ParticleSet& particles() const { return set_; }
+  const Eigen::Vector2d& origin() const { return origin_; }
+
   const ParticleFilterOptions& options() const { return options_; }
   double n_eff() const { return n_eff_; }
   std::uint64_t resample_count() const { return resamples_; }
   std::uint64_t reinit_count() const { return reinits_; }
   std::uint64_t rejected_count() const { return rejected_; }
+  std::uint64_t injected_count() const { return injected_; }
+  const GeneticStats& last_genetic_stats() const { return genetic_stats_; }
+  // Probability with which the next resampling replaces a particle by a random one.
+  double injection_probability() const;
 
  private:
-  void update_estimate();
+  struct ChunkWeights {
+    float max = 0.0f;  // largest log weight in the chunk (-inf: all dead)
+    double sum = 0.0, sum2 = 0.0;  // of exp(log_w - max)
+  };
+  // Normalised weights of particles [i, i + n) (n <= 256) into w.
+  void weights_into(std::size_t i, std::size_t n, float* w) const;
+  struct Moments {
+    double w = 0, x = 0, y = 0, vx = 0, vy = 0, xx = 0, xy = 0, yy = 0;
+    void add(const Moments& o);
+  };
+
+  // loglik(i) -> log-likelihood of particle i (float); the parallel weighing pass.
+  template <typename PerParticle>
+  bool weigh_particles(const PerParticle& loglik);
+  // Partial sums of exp(log_w - chunk max) over one chunk.
+  static ChunkWeights exp_chunk(const float* log_w, std::size_t n);
+  bool commit_weights();  // combine chunk_w_next_ into the normaliser; false: all dead
   void resample_now();
+  void resample_copy();
+  void inject_random(std::uint64_t step);
+  void systematic_ancestors(std::size_t children, std::uint64_t step);
+  void gather(std::uint64_t step);
+  void compute_moments() const;  // weighted pass over the current set
+  void finish_estimate(const std::vector<Moments>& per_chunk) const;
+  void reset_weights_uniform();
 
   ParticleFilterOptions options_;
   ParticleSet set_;
   ParticleSet scratch_;
+  Eigen::Vector2d origin_ = Eigen::Vector2d::Zero();
+  // Weights: when uniform_, all equal (log_w_ unused). Otherwise particle i's normalised
+  // weight is exp(log_w_[i] - log_norm_), computed where needed (never stored: one
+  // stream less through memory per step).
+  bool uniform_ = true;
+  FloatVector log_w_, log_w_next_;
+  std::vector<ChunkWeights> chunk_w_, chunk_w_next_;
+  double log_norm_ = 0.0;
+  float log_w_max_ = 0.0f;
   std::vector<std::uint32_t> ancestors_;
-  PlanarEstimate estimate_;
+  // Estimate cache; moments relative to ref_ (origin-relative) for numerical stability.
+  mutable PlanarEstimate estimate_;
+  mutable bool estimate_dirty_ = true;
+  mutable float ref_x_ = 0.0f, ref_y_ = 0.0f;
+  mutable std::vector<Moments> moments_;
+  LikelihoodAverages averages_;
+  GeneticStats genetic_stats_;
   double n_eff_ = 0.0;
   std::uint64_t step_ = 0;
-  std::uint64_t resamples_ = 0, reinits_ = 0, rejected_ = 0;
+  std::uint64_t resamples_ = 0, reinits_ = 0, rejected_ = 0, injected_ = 0;
   int consecutive_rejections_ = 0;
   bool initialized_ = false;
 };

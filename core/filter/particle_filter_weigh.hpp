@@ -1,36 +1,55 @@
 #pragma once
-// ParticleFilter::weigh: the TBB-parallel measurement update (template, so the likelihood
-// inlines into the per-particle loop).
+// ParticleFilter::weigh: the TBB-parallel measurement update (a template, so the
+// likelihood inlines into the per-particle loop and simple ones vectorise).
 #include <cmath>
 #include <limits>
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-#include <tbb/parallel_reduce.h>
 
 namespace luxloc {
 
+template <typename PerParticle>
+bool ParticleFilter::weigh_particles(const PerParticle& loglik) {
+  if (!initialized_) return false;
+  const std::size_t n = set_.size();
+  // New log weight = normalised prior + log-likelihood. Uniform prior: written in place
+  // (a refused update leaves the weights uniform); otherwise into the spare buffer, so a
+  // refused update leaves the current weights untouched.
+  const bool uniform = uniform_;
+  FloatVector& target = uniform ? log_w_ : log_w_next_;
+  target.resize(n);
+  chunk_w_next_.resize(particle_chunks(n));
+  const float prior_uniform = -std::log(static_cast<float>(n));
+  const float norm = static_cast<float>(log_norm_);
+  for_each_particle_chunk(n, [&](std::size_t c, std::size_t b, std::size_t e) {
+    float* out = target.data();
+    const float* lw = log_w_.data();
+    constexpr float kMax = std::numeric_limits<float>::max();
+    constexpr float kNegInf = -std::numeric_limits<float>::infinity();
+    if (uniform) {
+      for (std::size_t i = b; i < e; ++i) {
+        const float l = static_cast<float>(loglik(i));
+        out[i] = prior_uniform + (l <= kMax ? l : kNegInf);  // NaN / +inf guard
+      }
+    } else {
+      for (std::size_t i = b; i < e; ++i) {
+        const float l = static_cast<float>(loglik(i));
+        out[i] = (lw[i] - norm) + (l <= kMax ? l : kNegInf);
+      }
+    }
+    chunk_w_next_[c] = exp_chunk(out + b, e - b);
+  });
+  if (!commit_weights()) return false;
+  if (!uniform) std::swap(log_w_, log_w_next_);
+  return true;
+}
+
 template <typename LogLikelihood>
 bool ParticleFilter::weigh(const LogLikelihood& log_likelihood) {
-  const std::size_t n = set_.size();
-  // First pass: likelihoods into scratch, keeping the best one to detect underflow.
-  scratch_.log_w.resize(n);
-  const double best = tbb::parallel_reduce(
-      tbb::blocked_range<std::size_t>(0, n, 4096), -std::numeric_limits<double>::infinity(),
-      [&](const tbb::blocked_range<std::size_t>& r, double m) {
-        for (std::size_t i = r.begin(); i != r.end(); ++i) {
-          double l = log_likelihood(set_.x[i], set_.y[i]);
-          if (std::isnan(l)) l = -std::numeric_limits<double>::infinity();  // NaN guard
-          scratch_.log_w[i] = l;
-          m = std::max(m, set_.log_w[i] + l);
-        }
-        return m;
-      },
-      [](double a, double b) { return std::max(a, b); });
-  if (!std::isfinite(best)) return false;
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 16384), [&](const tbb::blocked_range<std::size_t>& r) {
-    for (std::size_t i = r.begin(); i != r.end(); ++i) set_.log_w[i] += scratch_.log_w[i];
+  const double ox = origin_.x(), oy = origin_.y();
+  const float* x = set_.x.data();
+  const float* y = set_.y.data();
+  return weigh_particles([&](std::size_t i) {
+    return log_likelihood(ox + static_cast<double>(x[i]), oy + static_cast<double>(y[i]));
   });
-  return true;
 }
 
 }  // namespace luxloc

@@ -25,6 +25,15 @@ struct PositionMeasurement {
   double gate_sigma = 6.0;  // Mahalanobis gate against the filter's own spread
 };
 
+// A horizontal velocity measurement in the world frame (IMU-derived: a zero-velocity
+// update from a still detector, a step-length/heading estimate, visual odometry).
+struct VelocityMeasurement {
+  TimeNs t = 0;
+  Eigen::Vector2d v = Eigen::Vector2d::Zero();             // m/s
+  Eigen::Matrix2d R = Eigen::Matrix2d::Identity() * 0.01;  // covariance, (m/s)^2
+  double gate_sigma = 6.0;
+};
+
 struct CorrectionResult {
   bool accepted = false;
   bool reinitialized = false;  // the filter re-initialised around the fix (lost track)
@@ -46,6 +55,8 @@ class PlanarFilter {
   virtual bool initialized() const = 0;
   virtual void predict(const MotionInput& u) = 0;
   virtual CorrectionResult correct(const PositionMeasurement& m) = 0;
+  // Filters that cannot use a velocity measurement refuse it (accepted = false).
+  virtual CorrectionResult correct_velocity(const VelocityMeasurement&) { return {}; }
   virtual PlanarEstimate estimate() const = 0;
 };
 

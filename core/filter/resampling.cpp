@@ -34,11 +34,11 @@ namespace {
 
 constexpr std::size_t kParallelMin = 16384;
 
-// Inclusive prefix sums of the weights, scaled by n: c[i] = n * sum_{j<=i} w_j.
-void scaled_cumsum(std::span<const double> w, std::vector<double>& c) {
+// Inclusive prefix sums of the weights, scaled by m: c[i] = m * sum_{j<=i} w_j.
+void scaled_cumsum(std::span<const double> w, std::size_t m, std::vector<double>& c) {
   const std::size_t n = w.size();
   c.resize(n);
-  const double scale = static_cast<double>(n);
+  const double scale = static_cast<double>(m);
   if (n < kParallelMin) {
     double acc = 0.0;
     for (std::size_t i = 0; i < n; ++i) c[i] = (acc += w[i] * scale);
@@ -62,15 +62,16 @@ void scaled_cumsum(std::span<const double> w, std::vector<double>& c) {
 void comb(const std::vector<double>& c, const std::vector<double>* u_per_child, double u,
           std::vector<std::uint32_t>& out) {
   const std::size_t n = c.size();
-  out.resize(n);
+  const std::size_t m = out.size();
+  const double dm = static_cast<double>(m);
   auto body = [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
-      const double lo = i == 0 ? 0.0 : c[i - 1];
-      // The last particle closes the interval at n whatever rounding left in c[n-1].
-      const double hi = (i + 1 == n) ? static_cast<double>(n) + 1.0 : std::min(c[i], static_cast<double>(n));
+      const double lo = i == 0 ? 0.0 : std::min(c[i - 1], dm);
+      // The last particle closes the interval at m whatever rounding left in c[n-1].
+      const double hi = (i + 1 == n) ? dm + 1.0 : std::min(c[i], dm);
       // children k with k + u_k in [lo, hi)
       std::size_t k = static_cast<std::size_t>(std::max(0.0, std::ceil(lo - 1.0)));
-      for (; k < n; ++k) {
+      for (; k < m; ++k) {
         const double pos = static_cast<double>(k) + (u_per_child ? (*u_per_child)[k] : u);
         if (pos >= hi) break;
         if (pos >= lo) out[k] = static_cast<std::uint32_t>(i);
@@ -88,29 +89,33 @@ void comb(const std::vector<double>& c, const std::vector<double>* u_per_child, 
 }  // namespace
 
 void resample(ResamplingScheme scheme, std::span<const double> weights, std::uint64_t seed,
-              std::vector<std::uint32_t>& ancestors) {
+              std::vector<std::uint32_t>& ancestors, std::size_t children) {
   const std::size_t n = weights.size();
-  ancestors.resize(n);
-  if (n == 0) return;
+  const std::size_t m = children ? children : n;
+  ancestors.resize(m);
+  if (n == 0) {
+    ancestors.clear();
+    return;
+  }
   FastRng rng(seed);
   std::vector<double> c;
   switch (scheme) {
     case ResamplingScheme::Systematic: {
-      scaled_cumsum(weights, c);
+      scaled_cumsum(weights, m, c);
       comb(c, nullptr, rng.uniform(), ancestors);
       return;
     }
     case ResamplingScheme::Stratified: {
-      scaled_cumsum(weights, c);
-      std::vector<double> u(n);
+      scaled_cumsum(weights, m, c);
+      std::vector<double> u(m);
       for (auto& x : u) x = rng.uniform();
       comb(c, &u, 0.0, ancestors);
       return;
     }
     case ResamplingScheme::Multinomial: {
-      scaled_cumsum(weights, c);
-      for (std::size_t k = 0; k < n; ++k) {
-        const double pos = rng.uniform() * static_cast<double>(n);
+      scaled_cumsum(weights, m, c);
+      for (std::size_t k = 0; k < m; ++k) {
+        const double pos = rng.uniform() * static_cast<double>(m);
         const auto it = std::upper_bound(c.begin(), c.end(), pos);
         ancestors[k] = static_cast<std::uint32_t>(std::min<std::size_t>(n - 1, static_cast<std::size_t>(it - c.begin())));
       }
@@ -121,15 +126,15 @@ void resample(ResamplingScheme scheme, std::span<const double> weights, std::uin
       std::size_t k = 0;
       std::vector<double> residual(n);
       for (std::size_t i = 0; i < n; ++i) {
-        const double nw = weights[i] * static_cast<double>(n);
+        const double nw = weights[i] * static_cast<double>(m);
         const auto copies = static_cast<std::size_t>(std::floor(nw));
-        for (std::size_t j = 0; j < copies && k < n; ++j) ancestors[k++] = static_cast<std::uint32_t>(i);
+        for (std::size_t j = 0; j < copies && k < m; ++j) ancestors[k++] = static_cast<std::uint32_t>(i);
         residual[i] = nw - static_cast<double>(copies);
       }
-      if (k < n) {
+      if (k < m) {
         double acc = 0.0;
         for (auto& r : residual) r = (acc += r);
-        for (; k < n; ++k) {
+        for (; k < m; ++k) {
           const double pos = rng.uniform() * acc;
           const auto it = std::upper_bound(residual.begin(), residual.end(), pos);
           ancestors[k] = static_cast<std::uint32_t>(std::min<std::size_t>(n - 1, static_cast<std::size_t>(it - residual.begin())));

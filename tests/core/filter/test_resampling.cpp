@@ -52,3 +52,21 @@ TEST_CASE("Systematic resampling is deterministic for a seed", "[filter]") {
   for (std::size_t i = 0; i < a.size(); ++i) REQUIRE(a[i] == i);  // equal weights: identity
   REQUIRE_THROWS_AS(parse_resampling_scheme("bogus"), std::invalid_argument);
 }
+
+TEST_CASE("Resampling draws any number of children (KLD-sampling)", "[filter]") {
+  std::vector<double> w = {0.5, 0.25, 0.25, 0.0};
+  for (auto scheme : {ResamplingScheme::Systematic, ResamplingScheme::Stratified, ResamplingScheme::Multinomial,
+                      ResamplingScheme::Residual}) {
+    INFO(to_string(scheme));
+    std::vector<std::uint32_t> anc;
+    resample(scheme, w, 3, anc, 4000);
+    REQUIRE(anc.size() == 4000);
+    std::vector<double> c(4, 0.0);
+    for (auto a : anc) c.at(a) += 1;
+    REQUIRE(c[0] == Approx(2000).margin(120));
+    REQUIRE(c[1] == Approx(1000).margin(100));
+    REQUIRE(c[3] == 0.0);
+    resample(scheme, w, 3, anc, 2);
+    REQUIRE(anc.size() == 2);
+  }
+}

@@ -1,0 +1,144 @@
+#include "core/filter/ekf_filter.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+
+namespace luxloc {
+
+void EkfFilter::initialize(const Eigen::Vector2d& p, const Eigen::Matrix2d& cov_p) {
+  if (!p.allFinite()) return;
+  x_ << p, 0.0, 0.0;
+  P_.setZero();
+  P_.topLeftCorner<2, 2>() =
+      cov_p.allFinite() ? Eigen::Matrix2d(0.5 * (cov_p + cov_p.transpose())) : Eigen::Matrix2d::Identity();
+  P_.bottomRightCorner<2, 2>() = Eigen::Matrix2d::Identity() * options_.init_speed_sigma * options_.init_speed_sigma;
+  condition();
+  consecutive_rejections_ = 0;
+  initialized_ = true;
+}
+
+void EkfFilter::predict(const MotionInput& u) {
+  if (!initialized_ || !(u.dt > 0.0) || !std::isfinite(u.dt)) return;
+  const double dt = u.dt;
+  const Eigen::Vector2d a = (u.has_acc && u.acc_inW.allFinite()) ? u.acc_inW : Eigen::Vector2d::Zero();
+  const double d = options_.velocity_tau_s > 0 ? std::exp(-dt / options_.velocity_tau_s) : 1.0;
+  const double q = std::max(0.0, options_.accel_noise_psd);
+  // Per axis: F = [[1, dt (1 + d) / 2], [0, d]], control B a = [dt^2 d / 2, dt d] a,
+  // noise G w with G = [dt / 2, 1], var(w) = q dt.
+  Matrix4 F = Matrix4::Identity();
+  F(0, 2) = F(1, 3) = 0.5 * dt * (1.0 + d);
+  F(2, 2) = F(3, 3) = d;
+  Vector4 Bu;
+  Bu(0) = 0.5 * dt * dt * d * a.x();
+  Bu(1) = 0.5 * dt * dt * d * a.y();
+  Bu(2) = dt * d * a.x();
+  Bu(3) = dt * d * a.y();
+  Matrix4 Q = Matrix4::Zero();
+  const double qv = q * dt;
+  for (int i = 0; i < 2; ++i) {
+    Q(i, i) = qv * 0.25 * dt * dt;
+    Q(i, i + 2) = Q(i + 2, i) = qv * 0.5 * dt;
+    Q(i + 2, i + 2) = qv;
+  }
+  const Vector4 x = F * x_ + Bu;
+  const Matrix4 P = F * P_ * F.transpose() + Q;
+  if (!x.allFinite() || !P.allFinite()) return;  // NaN guard: keep the last good state
+  x_ = x;
+  P_ = P;
+  // A walking device: clamp the speed (the particle filter clamps each particle).
+  const double speed = x_.tail<2>().norm();
+  if (options_.max_speed > 0 && speed > options_.max_speed) x_.tail<2>() *= options_.max_speed / speed;
+  condition();
+}
+
+CorrectionResult EkfFilter::update(int row, const Eigen::Vector2d& z, const Eigen::Matrix2d& R, double gate) {
+  CorrectionResult r;
+  Eigen::Matrix<double, 2, 4> H = Eigen::Matrix<double, 2, 4>::Zero();
+  H(0, row) = H(1, row + 1) = 1.0;
+  const Eigen::Vector2d innov = z - H * x_;
+  const Eigen::Matrix2d S = H * P_ * H.transpose() + R;
+  const Eigen::LDLT<Eigen::Matrix2d> ldlt(S);
+  if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 0.0)) return r;
+  r.mahalanobis = std::sqrt(innov.dot(ldlt.solve(innov)));
+  if (!(r.mahalanobis <= gate)) return r;
+  // K = P H^T S^-1; Joseph form P = (I - K H) P (I - K H)^T + K R K^T stays symmetric
+  // positive semi-definite under rounding, unlike (I - K H) P.
+  const Eigen::Matrix<double, 4, 2> K = ldlt.solve(H * P_).transpose();
+  const Matrix4 IKH = Matrix4::Identity() - K * H;
+  const Vector4 x = x_ + K * innov;
+  const Matrix4 P = IKH * P_ * IKH.transpose() + K * R * K.transpose();
+  if (!x.allFinite() || !P.allFinite()) {
+    r.mahalanobis = std::numeric_limits<double>::quiet_NaN();
+    return r;
+  }
+  x_ = x;
+  P_ = P;
+  condition();
+  r.accepted = true;
+  return r;
+}
+
+CorrectionResult EkfFilter::correct(const PositionMeasurement& m) {
+  CorrectionResult r;
+  if (!m.z.allFinite() || !m.R.allFinite() || !(m.R.determinant() > 0.0) || !(m.R(0, 0) > 0.0)) {
+    ++rejected_;
+    return r;
+  }
+  if (!initialized_) {
+    initialize(m.z, m.R * 4.0);
+    r.accepted = r.reinitialized = true;
+    return r;
+  }
+  r = update(0, m.z, m.R, m.gate_sigma);
+  if (r.accepted) {
+    consecutive_rejections_ = 0;
+    return r;
+  }
+  ++rejected_;
+  if (++consecutive_rejections_ >= options_.max_consecutive_rejections) {
+    // Lost track (kidnapped, or the prediction drifted during a dropout): restart at the
+    // fix, keeping nothing of the old velocity.
+    initialize(m.z, m.R * 4.0);
+    ++reinits_;
+    r.accepted = r.reinitialized = true;
+  }
+  return r;
+}
+
+CorrectionResult EkfFilter::correct_velocity(const VelocityMeasurement& m) {
+  if (!initialized_ || !m.v.allFinite() || !m.R.allFinite() || !(m.R.determinant() > 0.0) || !(m.R(0, 0) > 0.0)) {
+    ++rejected_;
+    return {};
+  }
+  CorrectionResult r = update(2, m.v, m.R, m.gate_sigma);
+  if (!r.accepted) ++rejected_;
+  return r;
+}
+
+void EkfFilter::condition() {
+  P_ = 0.5 * (P_ + P_.transpose());
+  for (int i = 0; i < 4; ++i) {
+    const double cap = i < 2 ? options_.max_position_variance : options_.max_velocity_variance;
+    const double v = std::clamp(P_(i, i), 1e-12, cap);
+    if (v != P_(i, i)) {
+      // Rescale row/column i so correlations (and positive definiteness) survive.
+      const double s = P_(i, i) > 0.0 ? std::sqrt(v / P_(i, i)) : 0.0;
+      P_.row(i) *= s;
+      P_.col(i) *= s;
+      P_(i, i) = v;
+    }
+  }
+}
+
+PlanarEstimate EkfFilter::estimate() const {
+  PlanarEstimate e;
+  if (!initialized_) return e;
+  e.p = x_.head<2>();
+  e.v = x_.tail<2>();
+  e.cov_p = P_.topLeftCorner<2, 2>();
+  e.valid = x_.allFinite() && P_.allFinite();
+  return e;
+}
+
+}  // namespace luxloc

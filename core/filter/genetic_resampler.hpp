@@ -1,0 +1,41 @@
+#pragma once
+// Genetic resampling against sample impoverishment (SEEDS.md B.5): instead of copying
+// heavy particles, keep the "excellent" ones as they are and move each "decayed" one
+// towards an excellent partner (crossover), then perturb it (mutation). The new set is
+// excellent ∪ mutated, with equal weights; its size does not change.
+#include <cstddef>
+#include <cstdint>
+#include <span>
+
+#include "core/filter/particle_set.hpp"
+
+namespace luxloc {
+
+struct GeneticOptions {
+  // B.5a: a particle is excellent when w_i / max_j w_j >= threshold (seed: [0.6, 0.8], 0.65).
+  double threshold = 0.65;
+  // B.5b: x' = alpha x_excellent + (1 - alpha) x_decayed (seed: [0.6, 0.8], 0.7); the
+  // partner is drawn among the excellent particles in proportion to their weights.
+  double alpha = 0.7;
+  // B.5c: each crossed particle mutates with this probability (seed: 0.5):
+  // x'' = x' + r_k * scale * n, r_k uniform in [0, 1] drawn once per resampling step (the
+  // seed's "per step"), n a standard normal per state component (zero-mean direction).
+  double mutation_probability = 0.5;
+  double mutation_position_m = 0.05;    // scale on x, y
+  double mutation_velocity_mps = 0.05;  // scale on vx, vy
+};
+
+struct GeneticStats {
+  std::size_t excellent = 0;
+  std::size_t decayed = 0;
+  std::size_t mutated = 0;
+  double r_k = 0.0;
+};
+
+// log_w: the particles' log weights (any common offset); log_w_max: their maximum.
+// Rewrites the decayed particles of `set` in place; deterministic for (seed, step),
+// whatever the thread count.
+GeneticStats genetic_resample(ParticleSet& set, std::span<const float> log_w, float log_w_max,
+                              const GeneticOptions& options, std::uint64_t seed, std::uint64_t step);
+
+}  // namespace luxloc
