@@ -1,12 +1,14 @@
 #include "plugins/live_sources.hpp"
 
 #include "core/common/input_error.hpp"
+#include "plugins/serial/serial_imu_source.hpp"
 
 namespace luxloc {
 
-std::vector<std::string> live_source_kinds() { return {}; }
+std::vector<std::string> live_source_kinds() { return {"serial-imu"}; }
 
 SourcePtr make_live_source(const SourceSpec& spec) {
+  if (spec.kind == "serial-imu") return make_serial_imu_source(spec);
   std::string kinds = "playback";
   for (const auto& k : live_source_kinds()) kinds += ", " + k;
   throw InputError("--source", 0, "--source",
