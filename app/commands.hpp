@@ -13,5 +13,8 @@ void add_run_command(CLI::App& root, Action& action);
 void add_demo_command(CLI::App& root, Action& action);
 void add_sim_command(CLI::App& root, Action& action);
 void add_eval_command(CLI::App& root, Action& action);
+void add_imu_command(CLI::App& root, Action& action);
+void add_calib_command(CLI::App& root, Action& action);
+void add_bench_command(CLI::App& root, Action& action);
 
 }  // namespace luxloc::app

@@ -17,6 +17,9 @@ int main(int argc, char** argv) {
   luxloc::app::add_demo_command(root, action);
   luxloc::app::add_sim_command(root, action);
   luxloc::app::add_eval_command(root, action);
+  luxloc::app::add_imu_command(root, action);
+  luxloc::app::add_calib_command(root, action);
+  luxloc::app::add_bench_command(root, action);
   try {
     root.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
