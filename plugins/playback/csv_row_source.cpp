@@ -21,6 +21,17 @@ CsvRowSource::CsvRowSource(const std::string& path, std::string name, const std:
 }
 
 bool CsvRowSource::next(SensorData& out) {
+  SensorData s;
+  while (next_checked_row(s)) {
+    if (!complete(s)) continue;
+    out = std::move(s);
+    ++emitted_;
+    return true;
+  }
+  return false;
+}
+
+bool CsvRowSource::next_checked_row(SensorData& out) {
   while (reader_.next_row()) {
     SensorData s;
     try {
@@ -52,9 +63,7 @@ bool CsvRowSource::next(SensorData& out) {
       last_t_ = t;
       keys_at_last_t_.assign(1, key);
     }
-    if (!complete(s)) continue;
     out = std::move(s);
-    ++emitted_;
     return true;
   }
   return false;

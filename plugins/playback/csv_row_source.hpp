@@ -26,7 +26,7 @@ inline constexpr const char* kFrameSize = "frame size";        // image size dif
 class CsvRowSource : public Source {
  public:
   std::string name() const override { return name_; }
-  bool next(SensorData& out) final;
+  bool next(SensorData& out) override;
   // Rows handed out so far.
   std::uint64_t emitted() const { return emitted_; }
   const std::string& path() const { return reader_.path(); }
@@ -43,6 +43,12 @@ class CsvRowSource : public Source {
   // Last step once the row passed the time checks (frames: load the image). Returns false
   // after counting the reason in drops() to skip the row.
   virtual bool complete(SensorData&) { return true; }
+
+  // The next row that parsed and passed the time checks, before complete(); false at the
+  // end of the file. next() is this followed by complete().
+  bool next_checked_row(SensorData& out);
+  // Counts a row handed out by an override of next().
+  void count_emitted() { ++emitted_; }
 
   // Column of `name` (from the header read at construction).
   int col(const char* name) const { return reader_.column(name); }

@@ -13,7 +13,7 @@ namespace {
 
 double number_after(const std::string& text, const std::string& label) {
   std::smatch m;
-  const std::regex re(label + R"(\s+([0-9.]+))");
+  const std::regex re(label + R"(\s*([0-9.]+))");
   REQUIRE(std::regex_search(text, m, re));
   return std::stod(m[1]);
 }
