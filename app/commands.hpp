@@ -16,5 +16,6 @@ void add_eval_command(CLI::App& root, Action& action);
 void add_imu_command(CLI::App& root, Action& action);
 void add_calib_command(CLI::App& root, Action& action);
 void add_bench_command(CLI::App& root, Action& action);
+void add_compare_command(CLI::App& root, Action& action);
 
 }  // namespace luxloc::app

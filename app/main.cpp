@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
   luxloc::app::add_imu_command(root, action);
   luxloc::app::add_calib_command(root, action);
   luxloc::app::add_bench_command(root, action);
+  luxloc::app::add_compare_command(root, action);
   try {
     root.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

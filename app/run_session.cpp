@@ -113,7 +113,65 @@ void add_run_options(CLI::App* sub, RunConfig& cfg) {
       ->capture_default_str();
   sub->add_flag("--no-accelerometer", [&cfg](std::int64_t) { cfg.fusion.use_accelerometer = false; },
                 "constant-velocity prediction (ignore the accelerometer)");
+  sub->add_option("--absolute-for", cfg.fusion.absolute_for_s,
+                  "use absolute corrections (VLC, fixes) only for S seconds after initialisation, then dead-reckon")
+      ->check(CLI::PositiveNumber)
+      ->type_name("S");
+  add_particle_filter_options(sub, cfg.fusion.pf);
   sub->add_flag("-q,--quiet", cfg.quiet, "no report on stderr");
+}
+
+void add_particle_filter_options(CLI::App* sub, ParticleFilterOptions& pf) {
+  const char* g = "Particle filter";
+  sub->add_option("--genetic-threshold", pf.genetic.threshold,
+                  "gpf: a particle is excellent when w / max w >= this (SEEDS.md B.5a)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str()
+      ->group(g);
+  sub->add_option("--genetic-alpha", pf.genetic.alpha, "gpf: crossover weight of the excellent parent (B.5b)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str()
+      ->group(g);
+  sub->add_option("--mutation-p", pf.genetic.mutation_probability, "gpf: mutation probability (B.5c)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str()
+      ->group(g);
+  sub->add_option("--mutation-scale", pf.genetic.mutation_position_m, "gpf: mutation scale on x, y, m (B.5c)")
+      ->check(CLI::Range(0.0, 100.0))
+      ->capture_default_str()
+      ->group(g);
+  sub->add_option("--mutation-velocity", pf.genetic.mutation_velocity_mps, "gpf: mutation scale on vx, vy, m/s")
+      ->check(CLI::Range(0.0, 100.0))
+      ->capture_default_str()
+      ->group(g);
+  sub->add_flag("--kld", pf.kld.enabled, "adaptive particle count by KLD-sampling (Fox 2003, as AMCL)")->group(g);
+  sub->add_option("--kld-epsilon", pf.kld.epsilon, "KLD-sampling error bound")
+      ->check(CLI::Range(1e-4, 1.0))
+      ->capture_default_str()
+      ->group(g);
+  sub->add_option("--kld-bin", pf.kld.bin_m, "KLD-sampling position bin, m")
+      ->check(CLI::Range(1e-3, 10.0))
+      ->capture_default_str()
+      ->group(g);
+  sub->add_option("--min-particles", pf.kld.min_particles, "KLD-sampling lower bound")
+      ->check(CLI::Range(10, 10'000'000))
+      ->capture_default_str()
+      ->group(g);
+  sub->add_option("--max-particles", pf.kld.max_particles, "KLD-sampling upper bound")
+      ->check(CLI::Range(10, 10'000'000))
+      ->capture_default_str()
+      ->group(g);
+  sub->add_flag("--inject", pf.injection.enabled,
+                "random-particle injection when the likelihood drops (kidnapping; over the LED map's extent)")
+      ->group(g);
+  sub->add_option("--inject-alpha-slow", pf.injection.alpha_slow, "injection: slow average rate")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str()
+      ->group(g);
+  sub->add_option("--inject-alpha-fast", pf.injection.alpha_fast, "injection: fast average rate")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str()
+      ->group(g);
 }
 
 RunOutcome run_session(const RunConfig& cfg, std::ostream& log) {
@@ -153,6 +211,14 @@ RunOutcome run_session(const RunConfig& cfg, std::ostream& log) {
   const bool any_live = !live.empty();
   for (auto& s : live) session.sources.push_back(std::move(s));
   if (!session.map) log << "luxloc: note: no LED map: camera frames will be ignored\n";
+  if (c.fusion.pf.injection.enabled && c.fusion.pf.injection.region.isEmpty()) {
+    // Injected particles are drawn where the device can be: under the lights, 1 m around.
+    if (!session.map || session.map->empty())
+      throw InputError("--inject", 0, "--inject", "random-particle injection needs an LED map for its region");
+    for (const Led& l : session.map->leds()) c.fusion.pf.injection.region.extend(l.p_inW.head<2>());
+    c.fusion.pf.injection.region.min() -= Eigen::Vector2d::Constant(1.0);
+    c.fusion.pf.injection.region.max() += Eigen::Vector2d::Constant(1.0);
+  }
   if (!session.camera) log << "luxloc: note: no camera file: camera frames will be ignored\n";
 
   PipelineOptions pipe_opt;
@@ -218,6 +284,7 @@ void print_report(const RunOutcome& r, std::ostream& log) {
       << f.reinitializations << " re-initialisations";
   if (f.frames_without_attitude) log << ", " << f.frames_without_attitude << " frames before the IMU aligned";
   if (f.other_samples) log << ", " << f.other_samples << " samples of kinds this filter does not use";
+  if (f.corrections_ignored) log << ", " << f.corrections_ignored << " absolute samples ignored (--absolute-for)";
   log << "\n";
   if (p.poses_dropped) log << "  outputs: " << p.poses_dropped << " poses dropped (output too slow)\n";
   log.unsetf(std::ios::floatfield);

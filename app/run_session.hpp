@@ -38,6 +38,8 @@ struct RunOutcome {
 
 // Registers the options of `run` on `sub` (also used by `demo` for a subset).
 void add_run_options(CLI::App* sub, RunConfig& cfg);
+// The particle filter's variant options (genetic, KLD-sampling, injection), shared with compare.
+void add_particle_filter_options(CLI::App* sub, ParticleFilterOptions& pf);
 // Runs the session; SIGINT/SIGTERM stop it cleanly (every computed pose is written).
 // Throws InputError for unusable options or input files.
 RunOutcome run_session(const RunConfig& cfg, std::ostream& log);

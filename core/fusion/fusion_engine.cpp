@@ -38,14 +38,15 @@ void FusionEngine::process(const Sample& sample, std::vector<PoseEstimate>& out)
   std::visit(Overloaded{
                  [&](const ImuSample& s) { on_imu(s, out); },
                  [&](const FrameSample& s) {
-                   if (options_.use_vlc) on_frame(s, out);
+                   if (options_.use_vlc && absolute_wanted(s.t)) on_frame(s, out);
                  },
                  [&](const FixSample& s) {
-                   if (options_.use_fixes) on_fix(s, out);
+                   if (options_.use_fixes && absolute_wanted(s.t)) on_fix(s, out);
                  },
                  [&](const auto&) { ++stats_.other_samples; },
              },
              sample.data);
+  if (!t_initialized_ && filter_->initialized()) t_initialized_ = sample.t;
   // Frames cannot wait for an IMU sample forever (IMU dropout): apply them late.
   const TimeNs hold = seconds_to_ns(options_.max_frame_hold_s);
   while (!pending_frames_.empty() && sample.t - pending_frames_.front().t_obs > hold) {
@@ -60,6 +61,14 @@ void FusionEngine::finish(std::vector<PoseEstimate>& out) {
     pending_frames_.pop_front();
   }
   if (filter_->initialized() && have_imu_) emit(t_imu_, out, true);
+}
+
+bool FusionEngine::absolute_wanted(TimeNs t) {
+  if (!t_initialized_ || !std::isfinite(options_.absolute_for_s) ||
+      ns_to_seconds(t - *t_initialized_) <= options_.absolute_for_s)
+    return true;
+  ++stats_.corrections_ignored;
+  return false;
 }
 
 void FusionEngine::predict_to(TimeNs t) {

@@ -37,6 +37,8 @@ class FusionEngine final : public FusionStage {
   void apply_frame(const DecodedFrame& f);
   void apply_position(const PositionMeasurement& m);
   void predict_to(TimeNs t);
+  // False for an absolute sample (frame, fix) that options_.absolute_for_s excludes.
+  bool absolute_wanted(TimeNs t);
   void emit(TimeNs t, std::vector<PoseEstimate>& out, bool force);
 
   FusionOptions options_;
@@ -61,6 +63,7 @@ class FusionEngine final : public FusionStage {
   bool emitted_ = false;
   int last_leds_ = 0;
   TimeNs t_last_fix_ = 0;
+  std::optional<TimeNs> t_initialized_;  // sample time at which the filter first initialised
 };
 
 }  // namespace luxloc

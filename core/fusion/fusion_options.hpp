@@ -15,6 +15,10 @@ struct FusionOptions {
   bool use_imu = true;    // false: IMU only gives the attitude; prediction is constant velocity
   bool use_vlc = true;    // camera frames
   bool use_fixes = true;  // fixes.csv
+  // Absolute corrections (VLC, fixes) are used only for this long after the filter first
+  // initialised; later ones are ignored (counted). A few seconds: IMU-only dead reckoning from
+  // a converged start (`luxloc compare`'s imu-only row). Infinite: always.
+  double absolute_for_s = std::numeric_limits<double>::infinity();
   ParticleFilterOptions pf;
   MahonyOptions ahrs;
   // Nominal device height above the floor (m); NaN: take session.yaml's device_height_m.

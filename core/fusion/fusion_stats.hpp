@@ -17,6 +17,7 @@ struct FusionStats {
   std::uint64_t reinitializations = 0;
   std::uint64_t frames_without_attitude = 0;  // frames before the IMU aligned
   std::uint64_t other_samples = 0;    // kinds this filter does not use yet
+  std::uint64_t corrections_ignored = 0;  // absolute samples past FusionOptions::absolute_for_s
   std::uint64_t poses = 0;
 };
 

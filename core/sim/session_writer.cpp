@@ -1,10 +1,13 @@
 #include "core/sim/session_writer.hpp"
 
+#include "core/sim/seeding.hpp"
+
 #include <atomic>
 #include <cstdio>
 #include <memory>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <random>
 #include <regex>
 #include <stdexcept>
 #include <string>
@@ -63,6 +66,22 @@ std::size_t write_steps(const Simulator& sim, const fs::path& p) {
   }
   close_checked(std::move(f), p);
   return steps.size();
+}
+
+// Fixes on their own random stream, so adding them leaves every other file unchanged.
+std::size_t write_fixes(const Simulator& sim, const fs::path& p, double rate_hz, double sigma_m) {
+  File f = open_out(p);
+  std::fputs("t,x,y,sigma_m\n", f.get());
+  std::mt19937_64 rng = make_rng(sim.options().seed, RandomStream::fixes);
+  std::normal_distribution<double> noise(0.0, sigma_m);
+  std::size_t n = 0;
+  for (double t = 0.5 / rate_hz; t < sim.duration_s(); t = static_cast<double>(++n) / rate_hz + 0.5 / rate_hz) {
+    const BodyState s = sim.truth(t);
+    const double ex = noise(rng), ey = noise(rng);
+    std::fprintf(f.get(), "%.6f,%.6f,%.6f,%.4f\n", t, s.p_BinW.x() + ex, s.p_BinW.y() + ey, sigma_m);
+  }
+  close_checked(std::move(f), p);
+  return n;
 }
 
 void write_session_yaml(const Simulator& sim, const fs::path& p) {
@@ -165,6 +184,13 @@ SessionSummary write_session(const Simulator& sim, const fs::path& dir, const Se
   write_session_yaml(sim, dir / "session.yaml");
   write_sim_truth(sim, dir / "sim_truth.yaml");
   s.files = 7;
+  if (options.fixes_rate_hz > 0.0) {
+    if (!(options.fixes_sigma_m > 0.0)) throw std::invalid_argument("fixes_sigma_m must be > 0");
+    s.fixes = write_fixes(sim, dir / "fixes.csv", options.fixes_rate_hz, options.fixes_sigma_m);
+    ++s.files;
+  } else {
+    fs::remove(dir / "fixes.csv", ec);
+  }
   if (options.write_frames) {
     s.frames = write_frames(sim, dir, options, s.frame_bytes);
     s.files += 1 + s.frames;
@@ -173,7 +199,7 @@ SessionSummary write_session(const Simulator& sim, const fs::path& dir, const Se
     fs::remove(dir / "frames.csv", ec);
   }
   for (const char* name : {"imu.csv", "groundtruth.csv", "steps.csv", "ledmap.yaml", "camera.yaml", "session.yaml",
-                           "sim_truth.yaml", "frames.csv"})
+                           "sim_truth.yaml", "frames.csv", "fixes.csv"})
     if (fs::exists(dir / name)) s.bytes += fs::file_size(dir / name);
   s.bytes += s.frame_bytes;
   return s;

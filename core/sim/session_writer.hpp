@@ -16,6 +16,10 @@ struct SessionWriteOptions {
   ImageFormat format = ImageFormat::jpeg;
   int png_compression = 1;   // zlib level: 1 is ~4x faster than the default 3 and barely larger
   int jpeg_quality = 95;
+  // fixes.csv: absolute 2-D fixes (any positioning system: t,x,y,sigma_m) at this rate from
+  // the ground truth plus Gaussian noise of fixes_sigma_m per axis; 0: no fixes.csv.
+  double fixes_rate_hz = 0.0;
+  double fixes_sigma_m = 0.3;
 };
 
 struct SessionSummary {
@@ -23,6 +27,7 @@ struct SessionSummary {
   std::size_t imu_samples = 0;
   std::size_t truth_rows = 0;
   std::size_t steps = 0;
+  std::size_t fixes = 0;
   std::size_t files = 0;
   std::uintmax_t bytes = 0;      // total size of the files written
   std::uintmax_t frame_bytes = 0;
