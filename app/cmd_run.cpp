@@ -1,17 +1,67 @@
 // `luxloc run`: live or playback fusion (SPEC.md "Command line").
 #include <iostream>
 #include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
 
 #include "app/commands.hpp"
 #include "app/run_session.hpp"
 
 namespace luxloc::app {
+namespace {
+
+std::string quoted(const std::string& v) {
+  std::string q = "\"";
+  for (char ch : v) q += (ch == '"' || ch == '\\') ? std::string("\\") + ch : std::string(1, ch);
+  return q + "\"";
+}
+
+// TOML for CLI11's config reader: one line per option, its description above it; options
+// without a value (unset, no default) are written commented out.
+std::string dump_config(const CLI::App& sub) {
+  std::ostringstream out;
+  out << "# luxloc run: effective configuration. Use: luxloc --config FILE run [flags that override it]\n";
+  out << "[" << sub.get_name() << "]\n";
+  for (const CLI::Option* o : sub.get_options()) {
+    const std::string name = o->get_single_name();
+    if (o->get_lnames().empty() || name == "help" || name == "dump-config") continue;
+    out << "\n# " << o->get_description() << "\n";
+    std::vector<std::string> values = o->results();
+    if (values.empty() && !o->get_default_str().empty()) values.push_back(o->get_default_str());
+    if (o->get_expected_max() == 0) {  // a flag
+      out << name << "=" << (o->count() > 0 ? "true" : "false") << "\n";
+    } else if (values.empty()) {
+      out << "# " << name << "=\n";
+    } else if (o->get_expected_max() > 1 || values.size() > 1) {
+      out << name << "=[";
+      for (std::size_t i = 0; i < values.size(); ++i) out << (i ? "," : "") << quoted(values[i]);
+      out << "]\n";
+    } else {
+      out << name << "=" << quoted(values.front()) << "\n";
+    }
+  }
+  return out.str();
+}
+
+}  // namespace
 
 void add_run_command(CLI::App& root, Action& action) {
   auto cfg = std::make_shared<RunConfig>();
   CLI::App* sub = root.add_subcommand("run", "fuse live sensors or a recorded session and output poses");
   add_run_options(sub, *cfg);
-  sub->callback([cfg, &action] {
+  // `luxloc run ... --dump-config > run.toml` writes the effective options as a [run]
+  // section that `luxloc --config run.toml run` reads back (flags given then win).
+  auto dump = std::make_shared<bool>(false);
+  sub->add_flag("--dump-config", *dump, "print the effective configuration (TOML, every option) and exit");
+  sub->callback([cfg, dump, sub, &action] {
+    if (*dump) {
+      action = [sub] {
+        std::cout << dump_config(*sub);
+        return 0;
+      };
+      return;
+    }
     action = [cfg] {
       const RunOutcome r = run_session(*cfg, std::cerr);
       if (!r.failures.empty()) {
