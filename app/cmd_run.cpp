@@ -11,15 +11,18 @@
 namespace luxloc::app {
 namespace {
 
-std::string quoted(const std::string& v) {
-  std::string q = "\"";
-  for (char ch : v) q += (ch == '"' || ch == '\\') ? std::string("\\") + ch : std::string(1, ch);
-  return q + "\"";
-}
-
 // TOML for CLI11's config reader: one line per option, its description above it; options
 // without a value (unset, no default) are written commented out.
 std::string dump_config(const CLI::App& sub) {
+  const auto quoted = [](const std::string& v) {
+    std::string q(1, '"');
+    for (char ch : v) {
+      if (ch == '"' || ch == '\\') q.push_back('\\');
+      q.push_back(ch);
+    }
+    q.push_back('"');
+    return q;
+  };
   std::ostringstream out;
   out << "# luxloc run: effective configuration. Use: luxloc --config FILE run [flags that override it]\n";
   out << "[" << sub.get_name() << "]\n";

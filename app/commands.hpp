@@ -17,5 +17,6 @@ void add_imu_command(CLI::App& root, Action& action);
 void add_calib_command(CLI::App& root, Action& action);
 void add_bench_command(CLI::App& root, Action& action);
 void add_compare_command(CLI::App& root, Action& action);
+void add_record_command(CLI::App& root, Action& action);
 
 }  // namespace luxloc::app

@@ -48,6 +48,7 @@ int main(int argc, char** argv) {
   luxloc::app::add_calib_command(root, action);
   luxloc::app::add_bench_command(root, action);
   luxloc::app::add_compare_command(root, action);
+  luxloc::app::add_record_command(root, action);
   try {
     root.name("luxloc");
     std::vector<std::string> args = hoist_config(argc, argv);

@@ -12,6 +12,8 @@
 #include "plugins/output/pose_file_sinks.hpp"
 #include "plugins/output/udp_pose_sink.hpp"
 #include "plugins/playback/playback_session.hpp"
+#include "plugins/record/session_recorder.hpp"
+#include "core/pipeline/tee_stage.hpp"
 #include "plugins/live_sources.hpp"
 #include "plugins/source_spec.hpp"
 
@@ -59,8 +61,9 @@ double parse_seconds(const std::string& s, const std::string& what) {
 }  // namespace
 
 void add_run_options(CLI::App* sub, RunConfig& cfg) {
-  sub->add_option("--source", cfg.sources,
-                  "sensor source KIND:TARGET[,key=value...] (repeatable); kinds: playback:DIR")
+  std::string kinds = "playback";
+  for (const auto& k : live_source_kinds()) kinds += ", " + k;
+  sub->add_option("--source", cfg.sources, "sensor source KIND:TARGET[,key=value...] (repeatable); kinds: " + kinds)
       ->type_name("SPEC");
   sub->add_option("--playback", cfg.playback, "play back a session folder (SPEC.md layout)")->type_name("DIR");
   sub->add_option("--map", cfg.map, "LED map (default: the session's ledmap.yaml)")->type_name("FILE");
@@ -118,6 +121,9 @@ void add_run_options(CLI::App* sub, RunConfig& cfg) {
       ->check(CLI::PositiveNumber)
       ->type_name("S");
   add_particle_filter_options(sub, cfg.fusion.pf);
+  sub->add_option("--record", cfg.record,
+                  "also record every input sample into this new session folder (replay with --playback)")
+      ->type_name("DIR");
   sub->add_flag("-q,--quiet", cfg.quiet, "no report on stderr");
 }
 
@@ -174,6 +180,68 @@ void add_particle_filter_options(CLI::App* sub, ParticleFilterOptions& pf) {
       ->group(g);
 }
 
+OpenedSources open_run_sources(const RunConfig& c) {
+  std::vector<std::string> playback_dirs;
+  std::vector<SourcePtr> live;
+  LiveSessionDefaults live_defaults;
+  if (!c.playback.empty()) playback_dirs.push_back(c.playback);
+  for (const auto& text : c.sources) {
+    const SourceSpec spec = SourceSpec::parse(text);
+    if (spec.kind == "playback") {
+      playback_dirs.push_back(spec.target);
+    } else {
+      live.push_back(make_live_source(spec));
+      live_session_defaults(spec, live_defaults);
+    }
+  }
+  if (playback_dirs.empty() && live.empty())
+    throw InputError("run", 0, "--playback", "no source: give --playback DIR or --source KIND:TARGET");
+  if (playback_dirs.size() > 1) throw InputError("run", 0, "--playback", "one playback session per run");
+
+  PlaybackOptions popt;
+  popt.map_path = c.map;
+  popt.camera_path = c.camera;
+  OpenedSources o;
+  PlaybackSession& session = o.session;
+  if (!playback_dirs.empty()) {
+    session = open_playback(playback_dirs.front(), popt);
+  } else {
+    if (!c.map.empty()) session.map = LedMap::load(c.map, popt.map_options);
+    if (!c.camera.empty()) session.camera = CameraModel::load(c.camera);
+    session.config = live_defaults.config;
+  }
+  if (!session.map) session.map = std::move(live_defaults.map);
+  if (!session.camera) session.camera = std::move(live_defaults.camera);
+  o.live = !live.empty();
+  for (auto& s : live) session.sources.push_back(std::move(s));
+
+  o.pipeline.realtime = c.realtime;
+  o.pipeline.live = o.live;
+  o.pipeline.clock_offsets_ns.assign(session.sources.size(), 0);
+  for (const auto& co : c.clock_offsets) {
+    const auto eq = co.find('=');
+    if (eq == std::string::npos)
+      throw InputError("--clock-offset", 0, "--clock-offset", "'" + co + "': expected SOURCE=SECONDS");
+    const std::string name = co.substr(0, eq);
+    const double secs = parse_seconds(co.substr(eq + 1), co);
+    bool found = false;
+    for (std::size_t i = 0; i < session.sources.size(); ++i) {
+      const std::string sn = session.sources[i]->name();
+      if (sn == name || sn.rfind(name, 0) == 0) {
+        o.pipeline.clock_offsets_ns[i] = seconds_to_ns(secs);
+        found = true;
+      }
+    }
+    if (!found) throw InputError("--clock-offset", 0, "--clock-offset", "'" + co + "': no source named '" + name + "'");
+  }
+  return o;
+}
+
+PipelineReport run_with_stop_signals(Pipeline& pipeline, FusionStage& stage) {
+  StopSignals signals(pipeline);
+  return pipeline.run(stage);
+}
+
 RunOutcome run_session(const RunConfig& cfg, std::ostream& log) {
   std::unique_ptr<tbb::global_control> threads;
   if (cfg.threads > 0)
@@ -183,33 +251,8 @@ RunOutcome run_session(const RunConfig& cfg, std::ostream& log) {
   c.fusion.pf.scheme = parse_resampling_scheme(cfg.resampling);
   c.fusion.tight_coupling = cfg.coupling == "tight";
 
-  // Sources.
-  std::vector<std::string> playback_dirs;
-  std::vector<SourcePtr> live;
-  if (!c.playback.empty()) playback_dirs.push_back(c.playback);
-  for (const auto& text : c.sources) {
-    const SourceSpec spec = SourceSpec::parse(text);
-    if (spec.kind == "playback")
-      playback_dirs.push_back(spec.target);
-    else
-      live.push_back(make_live_source(spec));
-  }
-  if (playback_dirs.empty() && live.empty())
-    throw InputError("run", 0, "--playback", "no source: give --playback DIR or --source KIND:TARGET");
-  if (playback_dirs.size() > 1) throw InputError("run", 0, "--playback", "one playback session per run");
-
-  PlaybackOptions popt;
-  popt.map_path = c.map;
-  popt.camera_path = c.camera;
-  PlaybackSession session;
-  if (!playback_dirs.empty()) {
-    session = open_playback(playback_dirs.front(), popt);
-  } else {
-    if (!c.map.empty()) session.map = LedMap::load(c.map, popt.map_options);
-    if (!c.camera.empty()) session.camera = CameraModel::load(c.camera);
-  }
-  const bool any_live = !live.empty();
-  for (auto& s : live) session.sources.push_back(std::move(s));
+  OpenedSources opened = open_run_sources(c);
+  PlaybackSession& session = opened.session;
   if (!session.map) log << "luxloc: note: no LED map: camera frames will be ignored\n";
   if (c.fusion.pf.injection.enabled && c.fusion.pf.injection.region.isEmpty()) {
     // Injected particles are drawn where the device can be: under the lights, 1 m around.
@@ -221,27 +264,6 @@ RunOutcome run_session(const RunConfig& cfg, std::ostream& log) {
   }
   if (!session.camera) log << "luxloc: note: no camera file: camera frames will be ignored\n";
 
-  PipelineOptions pipe_opt;
-  pipe_opt.realtime = c.realtime;
-  pipe_opt.live = any_live;
-  pipe_opt.clock_offsets_ns.assign(session.sources.size(), 0);
-  for (const auto& co : c.clock_offsets) {
-    const auto eq = co.find('=');
-    if (eq == std::string::npos)
-      throw InputError("--clock-offset", 0, "--clock-offset", "'" + co + "': expected SOURCE=SECONDS");
-    const std::string name = co.substr(0, eq);
-    const double s = parse_seconds(co.substr(eq + 1), co);
-    bool found = false;
-    for (std::size_t i = 0; i < session.sources.size(); ++i) {
-      const std::string sn = session.sources[i]->name();
-      if (sn == name || sn.rfind(name, 0) == 0) {
-        pipe_opt.clock_offsets_ns[i] = seconds_to_ns(s);
-        found = true;
-      }
-    }
-    if (!found) throw InputError("--clock-offset", 0, "--clock-offset", "'" + co + "': no source named '" + name + "'");
-  }
-
   // Sinks.
   std::vector<PoseSinkPtr> sinks;
   const std::string out = c.out.empty() && c.udp.empty() ? "-" : c.out;
@@ -249,11 +271,19 @@ RunOutcome run_session(const RunConfig& cfg, std::ostream& log) {
   for (const auto& u : c.udp) sinks.push_back(std::make_unique<UdpPoseSink>(u));
 
   FusionEngine engine(c.fusion, session.map, session.camera, session.config);
-  Pipeline pipeline(std::move(session.sources), std::move(sinks), pipe_opt);
+  std::unique_ptr<SessionRecorder> recorder;
+  if (!c.record.empty())
+    recorder = std::make_unique<SessionRecorder>(c.record, session.map, session.camera, session.config);
+  Pipeline pipeline(std::move(session.sources), std::move(sinks), opened.pipeline);
   RunOutcome outcome;
-  {
-    StopSignals signals(pipeline);
-    outcome.pipeline = pipeline.run(engine);
+  if (recorder) {
+    TeeStage tee(*recorder, engine);
+    outcome.pipeline = run_with_stop_signals(pipeline, tee);
+    const RecorderStats st = recorder->stats();
+    for (const auto& [file, n] : st.dropped)
+      outcome.failures += "record: " + std::to_string(n) + " samples for " + file + " dropped (disk too slow)\n";
+  } else {
+    outcome.pipeline = run_with_stop_signals(pipeline, engine);
   }
   outcome.fusion = engine.stats();
   outcome.groundtruth = session.groundtruth;

@@ -10,6 +10,7 @@
 
 #include "core/fusion/fusion_engine.hpp"
 #include "core/pipeline/pipeline.hpp"
+#include "plugins/playback/playback_session.hpp"
 
 namespace luxloc::app {
 
@@ -27,6 +28,7 @@ struct RunConfig {
   int threads = 0;                   // 0 = all cores (TBB default)
   std::vector<std::string> clock_offsets;  // SOURCE=SECONDS
   bool quiet = false;
+  std::string record;  // --record DIR: also write every input sample into a session folder
 };
 
 struct RunOutcome {
@@ -40,6 +42,17 @@ struct RunOutcome {
 void add_run_options(CLI::App* sub, RunConfig& cfg);
 // The particle filter's variant options (genetic, KLD-sampling, injection), shared with compare.
 void add_particle_filter_options(CLI::App* sub, ParticleFilterOptions& pf);
+// The sources of a run (--playback, --source) with the session they bring (LED map, camera,
+// session.yaml; --map / --camera win) and the pipeline options (--realtime, --clock-offset).
+struct OpenedSources {
+  PlaybackSession session;
+  bool live = false;
+  PipelineOptions pipeline;
+};
+OpenedSources open_run_sources(const RunConfig& cfg);
+// Runs the pipeline; SIGINT/SIGTERM stop it cleanly for the duration.
+PipelineReport run_with_stop_signals(Pipeline& pipeline, FusionStage& stage);
+
 // Runs the session; SIGINT/SIGTERM stop it cleanly (every computed pose is written).
 // Throws InputError for unusable options or input files.
 RunOutcome run_session(const RunConfig& cfg, std::ostream& log);

@@ -1,19 +1,32 @@
 #include "plugins/live_sources.hpp"
 
+#include <cmath>
+
 #include "core/common/input_error.hpp"
+#include "core/sim/scenario.hpp"
 #include "plugins/serial/serial_imu_source.hpp"
+#include "plugins/sim/sim_source.hpp"
 
 namespace luxloc {
 
-std::vector<std::string> live_source_kinds() { return {"serial-imu"}; }
+std::vector<std::string> live_source_kinds() { return {"serial-imu", "sim"}; }
 
 SourcePtr make_live_source(const SourceSpec& spec) {
   if (spec.kind == "serial-imu") return make_serial_imu_source(spec);
+  if (spec.kind == "sim") return std::make_unique<SimSource>(SimSourceOptions::from_spec(spec));
   std::string kinds = "playback";
   for (const auto& k : live_source_kinds()) kinds += ", " + k;
   throw InputError("--source", 0, "--source",
                    "'" + spec.text + "': source kind '" + spec.kind + "' is not available in this build (available: " +
                        kinds + ")");
+}
+
+void live_session_defaults(const SourceSpec& spec, LiveSessionDefaults& d) {
+  if (spec.kind != "sim") return;
+  const sim::Scenario sc = sim::make_scenario(SimSourceOptions::from_spec(spec).scenario);
+  if (!d.map) d.map = sc.map;
+  if (!d.camera) d.camera = sc.camera;
+  if (!std::isfinite(d.config.device_height_m)) d.config.device_height_m = sc.device_height_m;
 }
 
 }  // namespace luxloc

@@ -1,0 +1,199 @@
+#include "plugins/record/session_recorder.hpp"
+
+#include <chrono>
+#include <cinttypes>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <opencv2/core/persistence.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <limits>
+#include <stdexcept>
+
+#include "core/common/input_error.hpp"
+
+namespace luxloc {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct FileCloser {
+  void operator()(std::FILE* f) const { std::fclose(f); }
+};
+using File = std::unique_ptr<std::FILE, FileCloser>;
+
+// Exact seconds from the ns timeline: "12345.678901234" (parsing it back gives the same ns).
+std::string exact_seconds(TimeNs t) {
+  char buf[48];
+  const bool negative = t < 0;
+  const auto a = static_cast<std::uint64_t>(negative ? -t : t);
+  const auto per_s = static_cast<std::uint64_t>(kNsPerSecond);
+  std::snprintf(buf, sizeof buf, "%s%" PRIu64 ".%09" PRIu64, negative ? "-" : "", a / per_s, a % per_s);
+  return buf;
+}
+
+}  // namespace
+
+// Lives on the writer thread: opens each CSV at its first sample.
+struct SessionRecorder::Writer {
+  fs::path dir;
+  int png_compression = 1;
+  std::map<std::string, File> files;
+  std::map<std::string, std::uint64_t> written;
+  std::string error;  // first write failure
+  std::size_t frame_index = 0;
+
+  std::FILE* csv(const std::string& name, const char* header) {
+    auto it = files.find(name);
+    if (it == files.end()) {
+      File f(std::fopen((dir / name).c_str(), "w"));
+      if (!f) {
+        if (error.empty()) error = "cannot write " + (dir / name).string();
+        return nullptr;
+      }
+      std::fputs(header, f.get());
+      it = files.emplace(name, std::move(f)).first;
+    }
+    return it->second.get();
+  }
+  void row(const std::string& name, const char* header, const std::string& line) {
+    std::FILE* f = csv(name, header);
+    if (!f) return;
+    if (std::fputs(line.c_str(), f) < 0 && error.empty()) error = "error writing " + (dir / name).string();
+    ++written[name];
+  }
+  // ",<v>" with 17 significant digits (round-trip exact); empty after the comma for NaN.
+  static void field(std::string& line, double v) {
+    char buf[32];
+    line.push_back(',');
+    if (std::isfinite(v)) {
+      std::snprintf(buf, sizeof buf, "%.17g", v);
+      line.append(buf);
+    }
+  }
+
+  void write(const ImuSample& s) {
+    std::string line = exact_seconds(s.t);
+    for (double v : {s.acc_inB.x(), s.acc_inB.y(), s.acc_inB.z(), s.gyro_inB.x(), s.gyro_inB.y(), s.gyro_inB.z()})
+      field(line, v);
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    for (int i = 0; i < 3; ++i) field(line, s.has_mag ? s.mag_inB[i] : nan);
+    line.push_back('\n');
+    row("imu.csv", "t,ax,ay,az,gx,gy,gz,mx,my,mz\n", line);
+  }
+  void write(const FrameSample& s) {
+    char name[32];
+    std::snprintf(name, sizeof name, "frames/%06zu.png", frame_index++);
+    std::error_code ec;
+    fs::create_directories(dir / "frames", ec);
+    if (!cv::imwrite((dir / name).string(), s.gray, {cv::IMWRITE_PNG_COMPRESSION, png_compression})) {
+      if (error.empty()) error = "cannot write " + (dir / name).string();
+      return;
+    }
+    std::string line = exact_seconds(s.t);
+    line.push_back(',');
+    line.append(name).push_back('\n');
+    row("frames.csv", "t,file\n", line);
+  }
+  void write(const UwbSample& s) {
+    std::string line = exact_seconds(s.t);
+    line.push_back(',');
+    line.append(std::to_string(s.anchor));
+    field(line, s.range_m);
+    field(line, s.aoa_rad);
+    line.push_back('\n');
+    row("uwb.csv", "t,anchor,range_m,aoa_rad\n", line);
+  }
+  void write(const FixSample& s) {
+    std::string line = exact_seconds(s.t);
+    field(line, s.p_inW.x());
+    field(line, s.p_inW.y());
+    field(line, s.sigma_m);
+    line.push_back('\n');
+    row("fixes.csv", "t,x,y,sigma_m\n", line);
+  }
+  void write(const OdomSample& s) {
+    std::string line = exact_seconds(s.t);
+    field(line, s.dist_m);
+    field(line, s.dyaw_rad);
+    line.push_back('\n');
+    row("odom.csv", "t,dist_m,dyaw_rad\n", line);
+  }
+  void close() {
+    for (auto& [name, f] : files) {
+      std::FILE* raw = f.release();
+      if ((std::ferror(raw) != 0 || std::fclose(raw) != 0) && error.empty()) error = "error writing " + name;
+    }
+    files.clear();
+  }
+};
+
+SessionRecorder::SessionRecorder(fs::path dir, const std::optional<LedMap>& map,
+                                 const std::optional<CameraModel>& camera, const SessionConfig& config,
+                                 RecorderOptions options)
+    : dir_(std::move(dir)), options_(options), queue_(options.queue_capacity), writer_(std::make_unique<Writer>()) {
+  std::error_code ec;
+  fs::create_directories(dir_, ec);
+  if (!fs::is_directory(dir_)) throw InputError(dir_.string(), 0, "--out", "cannot create the session folder");
+  for (const char* existing : {"imu.csv", "frames.csv", "uwb.csv", "fixes.csv", "odom.csv"})
+    if (fs::exists(dir_ / existing))
+      throw InputError((dir_ / existing).string(), 0, "--out", "the folder already holds a session: choose a new one");
+  if (map) map->save((dir_ / "ledmap.yaml").string());
+  if (camera) camera->save((dir_ / "camera.yaml").string());
+  {
+    cv::FileStorage fs((dir_ / "session.yaml").string(), cv::FileStorage::WRITE | cv::FileStorage::FORMAT_YAML);
+    if (!fs.isOpened()) throw InputError((dir_ / "session.yaml").string(), 0, "--out", "cannot write");
+    if (std::isfinite(config.device_height_m)) fs << "device_height_m" << config.device_height_m;
+    if (!config.anchors.empty()) {
+      fs << "anchors" << "[";
+      for (const UwbAnchor& a : config.anchors)
+        fs << "{:" << "id" << a.id << "x" << a.p_inW.x() << "y" << a.p_inW.y() << "z" << a.p_inW.z() << "}";
+      fs << "]";
+    }
+  }
+  writer_->dir = dir_;
+  writer_->png_compression = options_.png_compression;
+  thread_ = std::thread([this] { writer_loop(); });
+}
+
+SessionRecorder::~SessionRecorder() {
+  std::vector<PoseEstimate> unused;
+  finish(unused);
+}
+
+void SessionRecorder::process(const Sample& sample, std::vector<PoseEstimate>&) {
+  SensorData copy = sample.data;  // cv::Mat shares the pixels: no image copy
+  if (!queue_.try_push(std::move(copy))) {
+    static constexpr const char* kNames[] = {"imu.csv", "frames.csv", "uwb.csv", "fixes.csv", "odom.csv"};
+    ++dropped_[kNames[sample.data.index()]];
+  }
+}
+
+void SessionRecorder::writer_loop() {
+  for (;;) {
+    if (std::optional<SensorData> d = queue_.try_pop()) {
+      std::visit([this](const auto& s) { writer_->write(s); }, *d);
+      continue;
+    }
+    if (done_.load(std::memory_order_acquire)) {
+      // The producer has stopped: whatever it pushed before is visible now.
+      while (std::optional<SensorData> d = queue_.try_pop()) std::visit([this](const auto& s) { writer_->write(s); }, *d);
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  writer_->close();
+}
+
+void SessionRecorder::finish(std::vector<PoseEstimate>&) {
+  if (!thread_.joinable()) return;
+  done_.store(true, std::memory_order_release);
+  thread_.join();
+}
+
+RecorderStats SessionRecorder::stats() const {
+  if (!writer_->error.empty()) throw std::runtime_error(writer_->error);
+  return {writer_->written, dropped_};
+}
+
+}  // namespace luxloc

@@ -1,0 +1,54 @@
+#pragma once
+// `sim:SCENARIO[,seed=..,duration=..,fps=..,realtime=1|0]`: the simulator (core/sim) as a
+// live source — one stream of IMU samples and rolling-shutter frames in time order, each
+// emitted when the wall clock reaches it (realtime=0: as fast as the consumer takes them).
+// Demos and tests of the live path without hardware: `luxloc run --source sim:walk`,
+// `luxloc record --source sim:walk --out DIR`.
+//
+// Timestamps are CLOCK_MONOTONIC ns at the start of the run plus the simulated time, the
+// timeline every live source shares. The scenario's LED map, camera and device height are
+// what the run uses unless --map / --camera say otherwise (live_session_defaults()).
+#include <atomic>
+#include <condition_variable>
+#include <memory>
+#include <mutex>
+
+#include "core/pipeline/source.hpp"
+#include "core/sim/simulator.hpp"
+#include "plugins/source_spec.hpp"
+
+namespace luxloc {
+
+struct SimSourceOptions {
+  std::string scenario = "walk";
+  sim::SimOptions sim;
+  bool realtime = true;
+
+  // From a parsed --source spec; throws InputError (field = the key) for bad values.
+  static SimSourceOptions from_spec(const SourceSpec& spec);
+};
+
+class SimSource final : public Source {
+ public:
+  explicit SimSource(SimSourceOptions options);
+  std::string name() const override { return "sim:" + options_.scenario; }
+  bool next(SensorData& out) override;
+  void request_stop() override;
+  bool live() const override { return true; }
+  const sim::Simulator& simulator() const { return simulator_; }
+
+ private:
+  // Sleeps until `t` (on the monotonic clock) or a stop; false when stopped.
+  bool wait_until(TimeNs t);
+
+  SimSourceOptions options_;
+  sim::Simulator simulator_;
+  std::vector<ImuSample> imu_;
+  std::size_t next_imu_ = 0, next_frame_ = 0;
+  TimeNs t0_ = -1;  // monotonic time of simulated t = 0, set at the first next()
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  std::atomic<bool> stop_{false};
+};
+
+}  // namespace luxloc
