@@ -103,9 +103,10 @@ void add_calib_imu(CLI::App& calib, Action& action) {
 }  // namespace
 
 void add_calib_command(CLI::App& root, Action& action) {
-  CLI::App* calib = root.add_subcommand("calib", "calibration tools: imu");
+  CLI::App* calib = root.add_subcommand("calib", "calibration tools: imu, ledmap");
   calib->require_subcommand(1);
   add_calib_imu(*calib, action);
+  add_calib_ledmap(*calib, action);
 }
 
 }  // namespace luxloc::app

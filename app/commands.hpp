@@ -18,5 +18,7 @@ void add_calib_command(CLI::App& root, Action& action);
 void add_bench_command(CLI::App& root, Action& action);
 void add_compare_command(CLI::App& root, Action& action);
 void add_record_command(CLI::App& root, Action& action);
+// `calib ledmap` (app/cmd_calib_ledmap.cpp), registered under `calib`.
+void add_calib_ledmap(CLI::App& calib, Action& action);
 
 }  // namespace luxloc::app
