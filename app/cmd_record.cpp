@@ -63,6 +63,7 @@ void add_record_command(CLI::App& root, Action& action) {
       ->required()
       ->type_name("SPEC");
   sub->add_option("--out", a->out, "new session folder to write")->required()->type_name("DIR");
+  sub->add_option("--plugin", a->run.plugins, "load an external source plugin (C ABI); repeatable")->type_name("PATH.so");
   sub->add_option("--map", a->run.map, "LED map to store with the session")->type_name("FILE");
   sub->add_option("--camera", a->run.camera, "camera file to store with the session")->type_name("FILE");
   sub->add_option("--clock-offset", a->run.clock_offsets, "add SECONDS to every time stamp of a source")

@@ -14,6 +14,7 @@
 #include "plugins/playback/playback_session.hpp"
 #include "plugins/record/session_recorder.hpp"
 #include "core/pipeline/tee_stage.hpp"
+#include "plugins/external/external_plugin.hpp"
 #include "plugins/live_sources.hpp"
 #include "plugins/source_spec.hpp"
 
@@ -66,6 +67,8 @@ void add_run_options(CLI::App* sub, RunConfig& cfg) {
   sub->add_option("--source", cfg.sources, "sensor source KIND:TARGET[,key=value...] (repeatable); kinds: " + kinds)
       ->type_name("SPEC");
   sub->add_option("--playback", cfg.playback, "play back a session folder (SPEC.md layout)")->type_name("DIR");
+  sub->add_option("--plugin", cfg.plugins, "load an external source plugin (C ABI, plugins/abi/luxloc_plugin.h); repeatable")
+      ->type_name("PATH.so");
   sub->add_option("--map", cfg.map, "LED map (default: the session's ledmap.yaml)")->type_name("FILE");
   sub->add_option("--camera", cfg.camera, "camera file (default: the session's camera.yaml)")->type_name("FILE");
   sub->add_option("--filter", cfg.fusion.filter, "fusion filter (pf = seed A's SIR particle filter)")
@@ -181,6 +184,7 @@ void add_particle_filter_options(CLI::App* sub, ParticleFilterOptions& pf) {
 }
 
 OpenedSources open_run_sources(const RunConfig& c) {
+  for (const std::string& path : c.plugins) register_external_plugin(path);
   std::vector<std::string> playback_dirs;
   std::vector<SourcePtr> live;
   LiveSessionDefaults live_defaults;

@@ -16,6 +16,7 @@ namespace luxloc::app {
 
 struct RunConfig {
   std::vector<std::string> sources;  // --source KIND:TARGET[,k=v...]
+  std::vector<std::string> plugins;  // --plugin PATH.so (external source kinds)
   std::string playback;              // --playback DIR (= --source playback:DIR)
   std::string map, camera;           // overrides of the session's files
   FusionOptions fusion;

@@ -4,6 +4,7 @@
 
 #include "core/common/input_error.hpp"
 #include "core/sim/scenario.hpp"
+#include "plugins/external/external_plugin.hpp"
 #include "plugins/serial/serial_imu_source.hpp"
 #include "plugins/sim/sim_source.hpp"
 
@@ -14,8 +15,10 @@ std::vector<std::string> live_source_kinds() { return {"serial-imu", "sim"}; }
 SourcePtr make_live_source(const SourceSpec& spec) {
   if (spec.kind == "serial-imu") return make_serial_imu_source(spec);
   if (spec.kind == "sim") return std::make_unique<SimSource>(SimSourceOptions::from_spec(spec));
+  if (SourcePtr external = make_external_source(spec)) return external;
   std::string kinds = "playback";
   for (const auto& k : live_source_kinds()) kinds += ", " + k;
+  for (const auto& p : external_plugins()) kinds += ", " + p->kind() + " (" + p->path() + ")";
   throw InputError("--source", 0, "--source",
                    "'" + spec.text + "': source kind '" + spec.kind + "' is not available in this build (available: " +
                        kinds + ")");
