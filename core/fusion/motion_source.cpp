@@ -22,7 +22,9 @@ void MotionSource::update(const ImuSample& s, const Eigen::Matrix3d& R_BtoW) {
   // Heading alpha from the attitude now (the step's own mean heading comes a step late).
   heading_rad_ = std::atan2(R_BtoW(1, 0), R_BtoW(0, 0)) + options_.pdr.heading_offset_rad;
   const double a_along = a_inW.x() * std::cos(heading_rad_) + a_inW.y() * std::sin(heading_rad_);
-  gait_.update(s.t, a_inW.z(), a_along);
+  // Yaw rate: the body rate about the world vertical.
+  const double yaw_rate = (R_BtoW * s.gyro_inB).z();
+  gait_.update(s.t, a_inW.z(), a_along, yaw_rate);
   while (const std::optional<Step> step = pdr_.pop_step()) gait_.add_step(*step);
 }
 

@@ -22,7 +22,13 @@ namespace luxloc {
 
 struct MotionSourceOptions {
   MotionModel model = MotionModel::pdr;
-  PdrOptions pdr;
+  // Per-step length noise 5 % (PdrOptions' 10 % is for PDR alone): the fusion calibrates
+  // the step-length scale, what is left per step is smaller (docs/MOTION.md, tuning).
+  PdrOptions pdr = [] {
+    PdrOptions p;
+    p.length.sigma_fraction = 0.05;
+    return p;
+  }();
   GaitSpeedOptions gait;
   StillOptions still;  // pdr: zero velocity while still
   // pdr between steps: strapdown while the IMU moves (true), or zero velocity (false).
