@@ -9,6 +9,8 @@
 
 #include "core/common/input_error.hpp"
 #include "core/filter/filter_factory.hpp"
+#include "core/filter/motion_model.hpp"
+#include "core/imu/imu_calibration.hpp"
 #include "plugins/output/pose_file_sinks.hpp"
 #include "plugins/output/udp_pose_sink.hpp"
 #include "plugins/playback/playback_session.hpp"
@@ -82,6 +84,14 @@ void add_run_options(CLI::App* sub, RunConfig& cfg) {
                   "one position fix per frame)")
       ->check(CLI::IsMember({"tight", "loose"}))
       ->capture_default_str();
+  sub->add_option("--motion", cfg.motion,
+                  "motion model of the prediction: pdr (steps, step length, attitude heading; gait calibrated by "
+                  "the fixes) | strapdown (world acceleration) | cv (constant velocity, no IMU); docs/MOTION.md")
+      ->check(CLI::IsMember(motion_model_names()))
+      ->capture_default_str();
+  sub->add_option("--imu-calib", cfg.imu_calib, "IMU calibration YAML from `luxloc calib imu`")
+      ->check(CLI::ExistingFile)
+      ->type_name("FILE");
   sub->add_option("--resampling", cfg.resampling, "systematic | stratified | multinomial | residual")
       ->check(CLI::IsMember({"systematic", "stratified", "multinomial", "residual"}))
       ->capture_default_str();
@@ -118,7 +128,7 @@ void add_run_options(CLI::App* sub, RunConfig& cfg) {
       ->check(CLI::Range(0.0, 10.0))
       ->capture_default_str();
   sub->add_flag("--no-accelerometer", [&cfg](std::int64_t) { cfg.fusion.use_accelerometer = false; },
-                "constant-velocity prediction (ignore the accelerometer)");
+                "constant-velocity prediction (ignore the accelerometer; = --motion cv)");
   sub->add_option("--absolute-for", cfg.fusion.absolute_for_s,
                   "use absolute corrections (VLC, fixes) only for S seconds after initialisation, then dead-reckon")
       ->check(CLI::PositiveNumber)
@@ -254,6 +264,8 @@ RunOutcome run_session(const RunConfig& cfg, std::ostream& log) {
   RunConfig c = cfg;
   c.fusion.pf.scheme = parse_resampling_scheme(cfg.resampling);
   c.fusion.tight_coupling = cfg.coupling == "tight";
+  c.fusion.motion.model = parse_motion_model(cfg.motion);
+  if (!cfg.imu_calib.empty()) c.fusion.imu_calibration = load_imu_calibration(cfg.imu_calib);
 
   OpenedSources opened = open_run_sources(c);
   PlaybackSession& session = opened.session;
@@ -320,6 +332,15 @@ void print_report(const RunOutcome& r, std::ostream& log) {
   if (f.other_samples) log << ", " << f.other_samples << " samples of kinds this filter does not use";
   if (f.corrections_ignored) log << ", " << f.corrections_ignored << " absolute samples ignored (--absolute-for)";
   log << "\n";
+  if (!f.motion.empty()) {
+    log << "  motion: " << f.motion;
+    if (f.motion == "pdr") log << ", " << f.steps << " steps";
+    if (std::isfinite(f.gait_scale))
+      log << ", gait calibrated to step-length scale " << std::setprecision(3) << f.gait_scale
+          << ", heading offset " << std::setprecision(2) << f.gait_heading_offset_rad * 180.0 / 3.141592653589793
+          << " deg";
+    log << std::setprecision(2) << "\n";
+  }
   if (p.poses_dropped) log << "  outputs: " << p.poses_dropped << " poses dropped (output too slow)\n";
   log.unsetf(std::ios::floatfield);
 }

@@ -22,6 +22,8 @@ struct RunConfig {
   FusionOptions fusion;
   std::string resampling = "systematic";
   std::string coupling = "tight";    // tight | loose
+  std::string motion = "pdr";        // pdr | strapdown | cv (docs/MOTION.md)
+  std::string imu_calib;             // --imu-calib FILE (luxloc calib imu)
   std::string out;                   // pose file; "-" = stdout; empty and no --udp: stdout
   std::vector<std::string> udp;      // HOST:PORT, repeatable
   std::string format = "csv";        // csv | tum

@@ -122,6 +122,12 @@ GeneticStats genetic_resample(ParticleSet& set, std::span<const float> log_w, fl
         set.y[i] = y;
         set.vx[i] = vx;
         set.vy[i] = vy;
+        if (set.gait) {
+          // The gait calibration crosses over with the rest of the state (no mutation:
+          // the motion model's random walk keeps it diverse).
+          set.ks[i] = alpha * set.ks[j] + (1.0f - alpha) * set.ks[i];
+          set.dpsi[i] = alpha * set.dpsi[j] + (1.0f - alpha) * set.dpsi[i];
+        }
       }
     }
     mutated[c] = m;

@@ -2,6 +2,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -117,6 +118,7 @@ void ParticleFilter::initialize(const Eigen::Vector2d& p, const Eigen::Matrix2d&
       MapF(set_.vy.data() + blk, idx(len)) = sv * n4;
     }
   });
+  if (set_.gait) draw_gait_prior(++step_);  // the gait calibration starts over too
   reset_weights_uniform();
   averages_.reset();  // a new prior: the old likelihood level says nothing about it
   consecutive_rejections_ = 0;
@@ -125,8 +127,122 @@ void ParticleFilter::initialize(const Eigen::Vector2d& p, const Eigen::Matrix2d&
   compute_moments();
 }
 
+void ParticleFilter::draw_gait_prior(std::uint64_t step) {
+  const float s_k = static_cast<float>(options_.gait.scale_sigma0);
+  const float s_d = static_cast<float>(options_.gait.heading_offset_sigma0);
+  const float k_lo = static_cast<float>(options_.gait.min_scale), k_hi = static_cast<float>(options_.gait.max_scale);
+  for_each_particle_chunk(set_.size(), [&](std::size_t c, std::size_t b, std::size_t e) {
+    LaneRng rng(options_.seed, step, 0x6A170000ull + c);
+    alignas(32) float noise[2 * kBlock];
+    for (std::size_t blk = b; blk < e; blk += kBlock) {
+      const std::size_t len = std::min(kBlock, e - blk);
+      rng.fill_normal(noise, LaneRng::round_up(2 * len, 16));
+      MapF(set_.ks.data() + blk, idx(len)) = (1.0f + s_k * CMapU(noise, idx(len))).max(k_lo).min(k_hi);
+      MapF(set_.dpsi.data() + blk, idx(len)) = s_d * CMapU(noise + len, idx(len));
+    }
+  });
+}
+
+void ParticleFilter::predict_gait(const MotionInput& u) {
+  const GaitInput& g = u.gait;
+  const std::size_t n = set_.size();
+  if (!set_.gait) {
+    set_.gait = true;
+    set_.resize(n);
+    draw_gait_prior(++step_);
+  }
+  const double dt = u.dt;
+  const double vmax = options_.max_speed > 0 ? options_.max_speed : std::numeric_limits<double>::infinity();
+  const double speed = std::clamp(g.speed_mps, 0.0, vmax);
+  // Per-step noise (SEEDS.md A, S1: l_k, alpha_k each uncertain) spread over the step
+  // period as a diffusion: along the walk sigma_l^2 / T, across it (l sigma_alpha)^2 / T.
+  const double T = g.step_period_s > 0.05 ? g.step_period_s : 0.55;
+  const double l = speed * T;
+  const double q0 = std::max(0.0, options_.gait.position_psd);
+  const float s_along = static_cast<float>(std::sqrt((g.length_sigma_m * g.length_sigma_m / T + q0) * dt));
+  const float s_cross =
+      static_cast<float>(std::sqrt((l * l * g.heading_sigma_rad * g.heading_sigma_rad / T + q0) * dt));
+  const float c = static_cast<float>(std::cos(g.heading_rad)), s = static_cast<float>(std::sin(g.heading_rad));
+  const float s_k = static_cast<float>(options_.gait.scale_walk * std::sqrt(dt));
+  const float s_d = static_cast<float>(options_.gait.heading_offset_walk * std::sqrt(dt));
+  const float k_lo = static_cast<float>(options_.gait.min_scale), k_hi = static_cast<float>(options_.gait.max_scale);
+  const float fspeed = static_cast<float>(speed), half_dt = static_cast<float>(0.5 * dt);
+  const float ac = s_along * c, as = s_along * s, cc = s_cross * c, cs = s_cross * s;
+  const std::uint64_t step = ++step_;
+  moments_.assign(particle_chunks(n), Moments{});
+  const float rx = ref_x_, ry = ref_y_;
+  const bool weighted = !uniform_;
+  for_each_particle_chunk(n, [&](std::size_t ch, std::size_t b, std::size_t e) {
+    LaneRng rng(options_.seed, step, ch);
+    alignas(32) float noise[4 * kBlock];
+    alignas(32) float wbuf[kBlock];
+    double m[8] = {};
+    for (std::size_t blk = b; blk < e; blk += kBlock) {
+      const std::size_t len = std::min(kBlock, e - blk);
+      rng.fill_normal(noise, LaneRng::round_up(4 * len, 16));
+      const CMapU n1(noise, idx(len)), n2(noise + len, idx(len)), n3(noise + 2 * len, idx(len)),
+          n4(noise + 3 * len, idx(len));
+      MapF X(set_.x.data() + blk, idx(len)), Y(set_.y.data() + blk, idx(len));
+      MapF VX(set_.vx.data() + blk, idx(len)), VY(set_.vy.data() + blk, idx(len));
+      MapF K(set_.ks.data() + blk, idx(len)), D(set_.dpsi.data() + blk, idx(len));
+      // The calibration states walk slowly (so the fixes can follow a changing gait).
+      K = (K + s_k * n1).max(k_lo).min(k_hi);
+      D += s_d * n2;
+      // Velocity = k * gait speed along heading + d; trapezoidal position.
+      const BlockF cd = D.cos(), sd = D.sin();
+      const BlockF sp = fspeed * K;
+      const BlockF vx = sp * (c * cd - s * sd);
+      const BlockF vy = sp * (s * cd + c * sd);
+      X += half_dt * (VX + vx) + ac * n3 - cs * n4;
+      Y += half_dt * (VY + vy) + as * n3 + cc * n4;
+      VX = vx;
+      VY = vy;
+      if (weighted) weights_into(blk, len, wbuf);
+      accumulate_block(m, X, Y, VX, VY, weighted ? wbuf : nullptr, len, rx, ry);
+    }
+    moments_[ch] = Moments{m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7]};
+  });
+  finish_estimate(moments_);
+}
+
+ParticleFilter::GaitEstimate ParticleFilter::gait_estimate() const {
+  GaitEstimate g;
+  if (!initialized_ || !set_.gait) return g;
+  const std::size_t n = set_.size();
+  std::vector<std::array<double, 5>> part(particle_chunks(n), std::array<double, 5>{});
+  for_each_particle_chunk(n, [&](std::size_t c, std::size_t b, std::size_t e) {
+    std::array<double, 5> a{};
+    for (std::size_t i = b; i < e; ++i) {
+      const double w = weight(i), k = set_.ks[i], d = set_.dpsi[i];
+      a[0] += w;
+      a[1] += w * k;
+      a[2] += w * k * k;
+      a[3] += w * d;
+      a[4] += w * d * d;
+    }
+    part[c] = a;
+  });
+  std::array<double, 5> a{};
+  for (const auto& p : part)
+    for (int j = 0; j < 5; ++j) a[j] += p[j];
+  if (!(a[0] > 0.0)) return g;
+  g.scale = a[1] / a[0];
+  g.scale_sigma = std::sqrt(std::max(0.0, a[2] / a[0] - g.scale * g.scale));
+  g.heading_offset_rad = a[3] / a[0];
+  g.heading_offset_sigma = std::sqrt(std::max(0.0, a[4] / a[0] - g.heading_offset_rad * g.heading_offset_rad));
+  g.valid = true;
+  return g;
+}
+
 void ParticleFilter::predict(const MotionInput& u) {
   if (!initialized_ || !(u.dt > 0.0) || !std::isfinite(u.dt)) return;
+  if (u.has_gait) {
+    const GaitInput& g = u.gait;
+    if (std::isfinite(g.speed_mps) && std::isfinite(g.heading_rad) && std::isfinite(g.length_sigma_m) &&
+        std::isfinite(g.heading_sigma_rad) && std::isfinite(g.step_period_s))
+      predict_gait(u);
+    return;  // a non-finite gait input predicts nothing (the NaN guard of the other models)
+  }
   const double dt = u.dt;
   const Eigen::Vector2d a = (u.has_acc && u.acc_inW.allFinite()) ? u.acc_inW : Eigen::Vector2d::Zero();
   const float sigma_v = static_cast<float>(std::sqrt(std::max(0.0, options_.accel_noise_psd) * dt));
@@ -383,6 +499,10 @@ void ParticleFilter::inject_random(std::uint64_t step) {
       set_.y[i] = static_cast<float>(lo.y() + rng.uniform() * size.y());
       set_.vx[i] = static_cast<float>(sv * rng.normal());
       set_.vy[i] = static_cast<float>(sv * rng.normal());
+      if (set_.gait) {
+        set_.ks[i] = 1.0f;  // the uncalibrated gait
+        set_.dpsi[i] = 0.0f;
+      }
       ++count[c];
     }
   });
@@ -510,7 +630,9 @@ void ParticleFilter::systematic_ancestors(std::size_t m, std::uint64_t step) {
 
 void ParticleFilter::gather(std::uint64_t step) {
   const std::size_t m = ancestors_.size();
+  scratch_.gait = set_.gait;
   scratch_.resize(m);
+  const bool gait = set_.gait;
   const float jitter = static_cast<float>(options_.roughening_m);
   moments_.assign(particle_chunks(m), Moments{});
   const float rx = ref_x_, ry = ref_y_;
@@ -532,6 +654,15 @@ void ParticleFilter::gather(std::uint64_t step) {
         svx[k] = set_.vx[i];
         svy[k] = set_.vy[i];
       }
+      if (gait) {
+        float* sk = scratch_.ks.data() + blk;
+        float* sd = scratch_.dpsi.data() + blk;
+        for (std::size_t k = 0; k < len; ++k) {
+          const std::uint32_t i = anc[blk + k];
+          sk[k] = set_.ks[i];
+          sd[k] = set_.dpsi[i];
+        }
+      }
       MapF X(sx, idx(len)), Y(sy, idx(len));
       if (jitter > 0.0f) {
         // Roughening (Gordon et al. 1993) against copies collapsing onto one point; a
@@ -548,6 +679,8 @@ void ParticleFilter::gather(std::uint64_t step) {
   std::swap(set_.y, scratch_.y);
   std::swap(set_.vx, scratch_.vx);
   std::swap(set_.vy, scratch_.vy);
+  std::swap(set_.ks, scratch_.ks);
+  std::swap(set_.dpsi, scratch_.dpsi);
   reset_weights_uniform();
   if (injection_probability() > 0.0) {
     inject_random(step);  // rare: recompute the moments rather than fold it in above

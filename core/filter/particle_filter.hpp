@@ -17,6 +17,7 @@
 
 #include "core/filter/genetic_resampler.hpp"
 #include "core/filter/kld_sampling.hpp"
+#include "core/filter/motion_model.hpp"
 #include "core/filter/particle_injection.hpp"
 #include "core/filter/particle_set.hpp"
 #include "core/filter/planar_filter.hpp"
@@ -49,6 +50,9 @@ struct ParticleFilterOptions {
   double roughening_m = 0.003;
   // Lost-track recovery: this many consecutive gated fixes re-initialise the filter.
   int max_consecutive_rejections = 8;
+  // Pedestrian motion model (MotionInput::has_gait): per-particle step-length scale and
+  // heading offset, created at the first gait input.
+  GaitNoise gait;
   GeneticOptions genetic;      // policy == Genetic
   KldOptions kld;              // adaptive particle count (Copy policy)
   InjectionOptions injection;  // random particles when the likelihood drops (needs a region)
@@ -85,6 +89,13 @@ class ParticleFilter final : public PlanarFilter {
   }
   Eigen::Vector2d velocity(std::size_t i) const { return {set_.vx[i], set_.vy[i]}; }
   double weight(std::size_t i) const;
+  // Gait calibration (pedestrian model): weighted mean and standard deviation of the
+  // step-length scale and the heading offset; valid = false before the first gait input.
+  struct GaitEstimate {
+    double scale = 1.0, scale_sigma = 0.0, heading_offset_rad = 0.0, heading_offset_sigma = 0.0;
+    bool valid = false;
+  };
+  GaitEstimate gait_estimate() const;
   // Raw state: positions relative to origin().
   const ParticleSet& particles() const { return set_; }
   const Eigen::Vector2d& origin() const { return origin_; }
@@ -125,6 +136,8 @@ class ParticleFilter final : public PlanarFilter {
   void compute_moments() const;  // weighted pass over the current set
   void finish_estimate(const std::vector<Moments>& per_chunk) const;
   void reset_weights_uniform();
+  void predict_gait(const MotionInput& u);
+  void draw_gait_prior(std::uint64_t step);  // k ~ N(1, sigma0), d ~ N(0, sigma0)
 
   ParticleFilterOptions options_;
   ParticleSet set_;

@@ -18,12 +18,19 @@ using FloatVector = std::vector<float, Eigen::aligned_allocator<float>>;
 struct ParticleSet {
   FloatVector x, y;    // m, relative to the filter's origin
   FloatVector vx, vy;  // m/s, world frame
+  // Gait calibration of the pedestrian motion model (core/filter/motion_model.hpp): step-
+  // length scale and heading offset (rad). Empty unless `gait` (other models do not pay
+  // for them in the resampling gather).
+  FloatVector ks, dpsi;
+  bool gait = false;
   std::size_t size() const { return x.size(); }
   void resize(std::size_t n) {
     x.resize(n);
     y.resize(n);
     vx.resize(n);
     vy.resize(n);
+    ks.resize(gait ? n : 0);
+    dpsi.resize(gait ? n : 0);
   }
 };
 

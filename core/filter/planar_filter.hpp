@@ -9,12 +9,35 @@
 
 namespace luxloc {
 
-// Motion between two IMU samples: horizontal acceleration in the world from the
-// strapdown (attitude-rotated, gravity removed), over dt.
+// Pedestrian dead reckoning as a motion input (SEEDS.md A, S1: step length l_k, heading
+// alpha_k), in continuous form: the walker moves at the gait speed l_k / T_k of the last
+// step along the current heading, so the prediction does not lag a step behind and the
+// displacement over a step is still l_k along the step's heading. The per-step noise
+// (length, heading) comes with the input; the filters turn it into a rate over T_k.
+struct GaitInput {
+  double speed_mps = 0.0;          // forward speed (m/s), >= 0
+  double heading_rad = 0.0;        // direction of walking, CCW from east (world ENU)
+  double length_sigma_m = 0.0;     // 1 sigma of one step's length
+  double heading_sigma_rad = 0.0;  // 1 sigma of one step's heading
+  double step_period_s = 0.55;     // T_k: the per-step noise accrues over this time
+};
+
+// Motion between two IMU samples (or frames), over dt. Which fields count decides the
+// motion model (see MotionModel, core/filter/motion_model.hpp):
+//   has_gait: pedestrian dead reckoning, gait speed and heading (SEEDS.md A, S1);
+//   has_acc:  planar strapdown, horizontal acceleration in the world from the attitude-
+//             rotated specific force minus gravity (SEEDS.md B.2 / C.2);
+//   neither:  constant velocity (no IMU; SEEDS.md C.6's prediction).
 struct MotionInput {
+  // MotionInput{dt, acc, has_acc} (strapdown / constant velocity) as before the gait input
+  // came: a constructor, so the short form stays warning-free.
+  MotionInput(double dt_s = 0.0, const Eigen::Vector2d& acc = Eigen::Vector2d::Zero(), bool acc_valid = false)
+      : dt(dt_s), acc_inW(acc), has_acc(acc_valid) {}
   double dt = 0.0;
   Eigen::Vector2d acc_inW = Eigen::Vector2d::Zero();
-  bool has_acc = false;  // false: constant-velocity prediction
+  bool has_acc = false;
+  bool has_gait = false;
+  GaitInput gait;
 };
 
 // An absolute 2-D position measurement (a VLC fix, a UWB position, fixes.csv).

@@ -13,15 +13,34 @@ struct Overloaded : Ts... {
   using Ts::operator()...;
 };
 
+MotionSourceOptions effective_motion(const FusionOptions& o) {
+  MotionSourceOptions m = o.motion;
+  if (!o.use_imu || !o.use_accelerometer) m.model = MotionModel::cv;
+  m.gravity = o.ahrs.gravity;
+  return m;
+}
+
+// One set of process-noise knobs for both filter families.
+EkfOptions ekf_options(const ParticleFilterOptions& pf) {
+  EkfOptions e;
+  e.accel_noise_psd = pf.accel_noise_psd;
+  e.velocity_tau_s = pf.velocity_tau_s;
+  e.max_speed = pf.max_speed;
+  e.init_speed_sigma = pf.init_speed_sigma;
+  e.max_consecutive_rejections = pf.max_consecutive_rejections;
+  e.gait = pf.gait;
+  return e;
+}
+
 }  // namespace
 
 FusionEngine::FusionEngine(const FusionOptions& options, const std::optional<LedMap>& map,
                            const std::optional<CameraModel>& camera, const SessionConfig& session)
-    : options_(options), ahrs_(options.ahrs) {
+    : options_(options), ahrs_(options.ahrs), motion_(effective_motion(options)) {
   device_height_m_ = std::isfinite(options.device_height_m) ? options.device_height_m
                      : std::isfinite(session.device_height_m) ? session.device_height_m
                                                               : 1.0;
-  filter_ = make_planar_filter(FilterSettings{options.filter, options.pf});
+  filter_ = make_planar_filter(FilterSettings{options.filter, options.pf, ekf_options(options.pf)});
   pf_ = dynamic_cast<ParticleFilter*>(filter_.get());
   if (map && camera && !map->empty()) {
     vlc_ = std::make_unique<VlcFrontend>(*camera, *map, options_, device_height_m_);
@@ -61,6 +80,17 @@ void FusionEngine::finish(std::vector<PoseEstimate>& out) {
     pending_frames_.pop_front();
   }
   if (filter_->initialized() && have_imu_) emit(t_imu_, out, true);
+  stats_.motion = to_string(motion_.model());
+  stats_.steps = motion_.steps();
+  if (pf_) {
+    if (const ParticleFilter::GaitEstimate g = pf_->gait_estimate(); g.valid) {
+      stats_.gait_scale = g.scale;
+      stats_.gait_heading_offset_rad = g.heading_offset_rad;
+    }
+  } else if (const auto* ekf = dynamic_cast<const EkfFilter*>(filter_.get()); ekf && motion_.model() == MotionModel::pdr) {
+    stats_.gait_scale = ekf->full_state()(4);
+    stats_.gait_heading_offset_rad = ekf->full_state()(5);
+  }
 }
 
 bool FusionEngine::absolute_wanted(TimeNs t) {
@@ -77,20 +107,17 @@ void FusionEngine::predict_to(TimeNs t) {
     return;
   }
   if (t <= t_filter_) return;
-  MotionInput u;
-  u.dt = ns_to_seconds(t - t_filter_);
-  u.has_acc = options_.use_accelerometer && options_.use_imu && acc_valid_;
-  u.acc_inW = acc_inW_;
-  filter_->predict(u);
+  filter_->predict(motion_.input(t_filter_, t));
   t_filter_ = t;
 }
 
-void FusionEngine::on_imu(const ImuSample& s, std::vector<PoseEstimate>& out) {
+void FusionEngine::on_imu(const ImuSample& raw, std::vector<PoseEstimate>& out) {
   ++stats_.imu_samples;
-  if (!s.acc_inB.allFinite() || !s.gyro_inB.allFinite() || (have_imu_ && s.t <= t_imu_)) {
+  if (!raw.acc_inB.allFinite() || !raw.gyro_inB.allFinite() || (have_imu_ && raw.t <= t_imu_)) {
     ++stats_.imu_rejected;
     return;
   }
+  const ImuSample s = options_.imu_calibration.apply(raw);
   const bool first = !have_imu_;
   // The accelerometer is a gravity reference only without motion: remove the centripetal
   // acceleration omega x v (body frame) that turns add, using the filter's velocity, so a
@@ -104,11 +131,7 @@ void FusionEngine::on_imu(const ImuSample& s, std::vector<PoseEstimate>& out) {
     }
   }
   ahrs_.update(compensated);
-  if (ahrs_.initialized()) {
-    const Eigen::Vector3d a_inW = ahrs_.R_BtoW() * s.acc_inB - Eigen::Vector3d(0, 0, options_.ahrs.gravity);
-    acc_inW_ = a_inW.head<2>();
-    acc_valid_ = std::isfinite(acc_inW_.squaredNorm());
-  }
+  if (ahrs_.initialized()) motion_.update(s, ahrs_.R_BtoW());
   have_imu_ = true;
   t_imu_ = s.t;
   if (first && !filter_->initialized()) t_filter_ = s.t;

@@ -10,6 +10,7 @@
 #include "core/common/session_config.hpp"
 #include "core/fusion/fusion_options.hpp"
 #include "core/fusion/fusion_stats.hpp"
+#include "core/fusion/motion_source.hpp"
 #include "core/fusion/vlc_frontend.hpp"
 #include "core/pipeline/fusion_stage.hpp"
 
@@ -28,6 +29,7 @@ class FusionEngine final : public FusionStage {
   const FusionStats& stats() const { return stats_; }
   const PlanarFilter& filter() const { return *filter_; }
   const MahonyFilter& attitude() const { return ahrs_; }
+  const MotionSource& motion() const { return motion_; }
   double device_height_m() const { return device_height_m_; }
 
  private:
@@ -57,8 +59,7 @@ class FusionEngine final : public FusionStage {
   TimeNs t_filter_ = 0;      // time the filter state refers to
   bool have_imu_ = false;
   TimeNs t_imu_ = 0;
-  Eigen::Vector2d acc_inW_ = Eigen::Vector2d::Zero();  // last horizontal world acceleration
-  bool acc_valid_ = false;
+  MotionSource motion_;  // the prediction's input (pdr / strapdown / cv)
   TimeNs t_last_emit_ = 0;
   bool emitted_ = false;
   int last_leds_ = 0;

@@ -3,6 +3,8 @@
 #include <string>
 
 #include "core/filter/particle_filter.hpp"
+#include "core/fusion/motion_source.hpp"
+#include "core/imu/imu_calibration.hpp"
 #include "core/imu/mahony_filter.hpp"
 
 namespace luxloc {
@@ -23,9 +25,15 @@ struct FusionOptions {
   MahonyOptions ahrs;
   // Nominal device height above the floor (m); NaN: take session.yaml's device_height_m.
   double device_height_m = std::numeric_limits<double>::quiet_NaN();
-  // Use the accelerometer (rotated by the attitude, gravity removed) in the motion model;
-  // false: constant-velocity prediction.
+  // Motion model of the prediction (`--motion`, docs/MOTION.md): pdr (default: steps,
+  // step length, attitude heading, calibrated gait), strapdown, cv; and the PDR settings.
+  // The filters' process noise: pf.accel_noise_psd / velocity_tau_s (strapdown, cv) and
+  // pf.gait (pdr); the EKF takes the same values.
+  MotionSourceOptions motion;
+  // Use the accelerometer in the motion model; false: constant velocity whatever `motion`.
   bool use_accelerometer = true;
+  // Applied to every IMU sample before anything else (`--imu-calib`, `luxloc calib imu`).
+  ImuCalibration imu_calibration;
   // Tight coupling: weigh particles by the reprojection error of each decoded LED (one
   // LED suffices); false: seed A's loose coupling (a position fix per frame).
   bool tight_coupling = true;

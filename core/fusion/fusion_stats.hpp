@@ -1,5 +1,7 @@
 #pragma once
 #include <cstdint>
+#include <limits>
+#include <string>
 
 namespace luxloc {
 
@@ -19,6 +21,13 @@ struct FusionStats {
   std::uint64_t other_samples = 0;    // kinds this filter does not use yet
   std::uint64_t corrections_ignored = 0;  // absolute samples past FusionOptions::absolute_for_s
   std::uint64_t poses = 0;
+  // Motion model (docs/MOTION.md): its name, the steps PDR detected, and the gait
+  // calibration the fixes taught the filter (step-length scale, heading offset; NaN
+  // without the pedestrian model), filled in by finish().
+  std::string motion;
+  std::uint64_t steps = 0;
+  double gait_scale = std::numeric_limits<double>::quiet_NaN();
+  double gait_heading_offset_rad = std::numeric_limits<double>::quiet_NaN();
 };
 
 }  // namespace luxloc

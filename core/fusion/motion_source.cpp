@@ -1,0 +1,78 @@
+#include "core/fusion/motion_source.hpp"
+
+#include <cmath>
+
+namespace luxloc {
+
+MotionSource::MotionSource(const MotionSourceOptions& options)
+    : options_(options),
+      pdr_(options.pdr),
+      gait_(options.gait, options.pdr.detector.min_interval_s),
+      still_(options.still) {}
+
+void MotionSource::update(const ImuSample& s, const Eigen::Matrix3d& R_BtoW) {
+  if (!s.acc_inB.allFinite() || !R_BtoW.allFinite()) return;
+  const Eigen::Vector3d a_inW = R_BtoW * s.acc_inB - Eigen::Vector3d(0, 0, options_.gravity);
+  if (!a_inW.allFinite()) return;
+  acc_inW_ = a_inW.head<2>();
+  valid_ = true;
+  if (options_.model != MotionModel::pdr) return;
+  still_.update(s);
+  pdr_.update(s, R_BtoW);
+  // Heading alpha from the attitude now (the step's own mean heading comes a step late).
+  heading_rad_ = std::atan2(R_BtoW(1, 0), R_BtoW(0, 0)) + options_.pdr.heading_offset_rad;
+  const double a_along = a_inW.x() * std::cos(heading_rad_) + a_inW.y() * std::sin(heading_rad_);
+  // Yaw rate: the body rate about the world vertical.
+  const double yaw_rate = (R_BtoW * s.gyro_inB).z();
+  gait_.update(s.t, a_inW.z(), a_along, yaw_rate);
+  while (const std::optional<Step> step = pdr_.pop_step()) gait_.add_step(*step);
+}
+
+MotionInput MotionSource::input(TimeNs t0, TimeNs t1) {
+  MotionInput u;
+  u.dt = ns_to_seconds(t1 - t0);
+  if (!valid_) return u;  // no IMU yet: constant velocity
+  switch (options_.model) {
+    case MotionModel::cv:
+      regime_ = MotionRegime::cv;
+      break;
+    case MotionModel::strapdown:
+      u.has_acc = true;
+      u.acc_inW = acc_inW_;
+      regime_ = MotionRegime::strapdown;
+      break;
+    case MotionModel::pdr: {
+      const bool stepping = gait_.stepping();
+      if (stepping) t_last_stepping_ = t1;
+      // Strapdown between steps: bouncing before the first step of a walk is detected, or
+      // moving without a bounce (not just after a walk: the walker is stopping then).
+      const bool moving =
+          gait_.walking() || (!still_.still() && ns_to_seconds(t1 - t_last_stepping_) > options_.settle_s);
+      if (!stepping && moving && options_.strapdown_between_steps) {
+        u.has_acc = true;  // moving without steps: strapdown
+        u.acc_inW = acc_inW_;
+        gait_.sync();
+        regime_ = MotionRegime::strapdown;
+        break;
+      }
+      // Walking (gait speed), or standing still (zero velocity). Coming from another
+      // regime, the distance up to t0 is already covered: no catch-up for it.
+      if (regime_ != MotionRegime::gait) gait_.sync();
+      regime_ = stepping ? MotionRegime::gait : MotionRegime::still;
+      u.has_gait = true;
+      u.gait.speed_mps = stepping ? gait_.take_speed(t0, t1) : 0.0;
+      if (!stepping) gait_.sync();
+      u.gait.heading_rad = heading_rad_;
+      u.gait.step_period_s = gait_.step_period_s();
+      // Per-step noise only while walking (standing still has no step to be wrong about).
+      if (u.gait.speed_mps > 0.0 && gait_.has_step()) {
+        u.gait.length_sigma_m = gait_.last_step().length_sigma_m;
+        u.gait.heading_sigma_rad = gait_.last_step().heading_sigma_rad;
+      }
+      break;
+    }
+  }
+  return u;
+}
+
+}  // namespace luxloc

@@ -1,0 +1,72 @@
+#pragma once
+// The motion input of the fusion's prediction (`luxloc run --motion`), built from the IMU
+// and the attitude of each sample (core/filter/motion_model.hpp):
+//   pdr        steps (StepDetector), their lengths (StepLengthModel) and the attitude's
+//              heading (SEEDS.md A, S1), as a gait speed along the current heading
+//              (GaitSpeed) with the per-step length and heading noise. Between walks:
+//              zero velocity while the IMU is still, strapdown while it moves without
+//              steps (the first step of a walk is only detected once walked; a trolley,
+//              a robot or a device in the hand of someone turning on the spot has none);
+//   strapdown  the specific force rotated into the world minus gravity (SEEDS.md B.2, C.2);
+//   cv         nothing from the IMU: constant velocity.
+#include <Eigen/Core>
+#include <limits>
+
+#include "core/filter/motion_model.hpp"
+#include "core/filter/planar_filter.hpp"
+#include "core/imu/gait_speed.hpp"
+#include "core/imu/pdr.hpp"
+#include "core/imu/still_detector.hpp"
+
+namespace luxloc {
+
+struct MotionSourceOptions {
+  MotionModel model = MotionModel::pdr;
+  // Per-step length noise 5 % (PdrOptions' 10 % is for PDR alone): the fusion calibrates
+  // the step-length scale, what is left per step is smaller (docs/MOTION.md, tuning).
+  PdrOptions pdr = [] {
+    PdrOptions p;
+    p.length.sigma_fraction = 0.05;
+    return p;
+  }();
+  GaitSpeedOptions gait;
+  StillOptions still;  // pdr: zero velocity while still
+  // pdr between steps: strapdown while the IMU moves (true), or zero velocity (false).
+  bool strapdown_between_steps = true;
+  // After a walk ends (no bounce), zero velocity for this long even if the IMU is not
+  // still yet: the walker is coming to a stop, the strapdown velocity would be stale.
+  double settle_s = 1.0;
+  double gravity = 9.80665;
+};
+
+// What the last input was (pdr: which of its three regimes).
+enum class MotionRegime { cv, strapdown, gait, still };
+
+class MotionSource {
+ public:
+  explicit MotionSource(const MotionSourceOptions& options = {});
+
+  // One (calibrated) IMU sample and the attitude after it.
+  void update(const ImuSample& s, const Eigen::Matrix3d& R_BtoW);
+  // The input for a prediction over [t0, t1] (t1 at or just after the last update()).
+  MotionInput input(TimeNs t0, TimeNs t1);
+
+  MotionModel model() const { return options_.model; }
+  const PedestrianDeadReckoning& pdr() const { return pdr_; }
+  const GaitSpeed& gait() const { return gait_; }
+  std::uint64_t steps() const { return pdr_.step_count(); }
+  MotionRegime regime() const { return regime_; }
+
+ private:
+  MotionSourceOptions options_;
+  PedestrianDeadReckoning pdr_;
+  GaitSpeed gait_;
+  StillDetector still_;
+  MotionRegime regime_ = MotionRegime::cv;
+  TimeNs t_last_stepping_ = std::numeric_limits<TimeNs>::min() / 2;
+  bool valid_ = false;
+  Eigen::Vector2d acc_inW_ = Eigen::Vector2d::Zero();
+  double heading_rad_ = 0.0;
+};
+
+}  // namespace luxloc

@@ -1,0 +1,108 @@
+#pragma once
+// Turns the discrete steps of pedestrian dead reckoning (SEEDS.md A, S1: l_k, alpha_k)
+// into a forward speed at any instant, for a filter that predicts at the IMU rate.
+//
+// A step is confirmed StepDetectorOptions::min_interval_s after its heel strike, so
+// applying l_k when it is known would lag the walker by that much plus a whole step.
+// Instead the walked distance is extrapolated from the last heel strike at the last step's
+// speed l_k / T_k (a walker keeps its pace), for at most one step period plus the
+// confirmation delay. While extrapolating, the speed is scaled by the bounce of the
+// vertical acceleration (its RMS over one step) relative to the bounce seen at the steps:
+// a walker who slows down to stop bounces less, one who stopped does not bounce (the
+// extrapolation then ends). The output speed is the rate of that extrapolation plus a
+// servo (time constant servo_tau_s) onto it of the distance already output, so the
+// total output distance follows the sum of the step lengths.
+//
+// Within a step the walker's speed changes (slowing into a turn, the sway of each step)
+// faster than steps can tell. The horizontal acceleration along the heading sees it: its
+// integral, high-passed with accel_blend_tau_s (so the step speed keeps the long term and
+// an accelerometer bias cannot run away) and with its slow mean removed, is added to the
+// speed (a complementary filter: steps for the low frequencies, the accelerometer for the
+// high ones).
+//
+// Walkers slow down in turns, at the same cadence (shorter steps): with turn_slowdown_s_per_rad
+// c > 0 every step length and the extrapolation are scaled by 1 - c |omega| (omega: the yaw
+// rate averaged over turn_window_s, floored at min_turn_factor). The simulator's walker
+// gives c = 0.21 s/rad (speed 1.24 m/s straight, 0.91 m/s at 1.25 rad/s); the fusion's
+// step-length scale calibrates what is left.
+#include <cstdint>
+#include <deque>
+
+#include "core/common/time.hpp"
+#include "core/imu/pdr.hpp"
+
+namespace luxloc {
+
+struct GaitSpeedOptions {
+  double servo_tau_s = 0.25;            // catch-up time constant of the output distance
+  double nominal_step_s = 0.55;         // step period when a step has no known interval
+  double bounce_window_s = 0.4;         // RMS window of the vertical acceleration (< a step: lag)
+  double bounce_rms_mps2 = 0.3;         // below: the walker is not walking (extrapolation ends)
+  double bounce_ref_weight = 0.3;       // EMA weight of each step's bounce in the reference
+  bool scale_by_bounce = true;          // slow the extrapolation as the bounce fades
+  double extrapolation_margin_s = 0.1;  // beyond T_k + the confirmation delay
+  double max_speed_mps = 2.5;
+  double accel_blend_tau_s = 0.3;       // complementary filter crossover; <= 0: steps only
+  double turn_slowdown_s_per_rad = 0.2;  // c; 0: step length independent of turning
+  double turn_window_s = 0.55;           // EMA time constant of |omega|
+  double min_turn_factor = 0.5;
+  double accel_mean_tau_s = 0.0;        // > 0: remove a slow mean of the along-track acceleration
+};
+
+class GaitSpeed {
+ public:
+  explicit GaitSpeed(const GaitSpeedOptions& options = {}, double confirmation_delay_s = 0.3);
+
+  // Every IMU sample: its time, the vertical acceleration in the world (gravity removed)
+  // and the horizontal acceleration along the walking direction.
+  void update(TimeNs t, double a_up_mps2, double a_along_mps2 = 0.0, double yaw_rate_rps = 0.0);
+  double turn_factor() const;  // 1 - c |omega|, floored
+  // A step, as PedestrianDeadReckoning::pop_step() returns it (Step::t = heel strike),
+  // after the update() of the sample that confirmed it.
+  void add_step(const Step& step);
+  // The speed to integrate over [t0, t1] (one prediction; call in time order, t1 at or
+  // shortly after the last update()); the output distance advances by speed (t1 - t0).
+  double take_speed(TimeNs t0, TimeNs t1);
+  // Steps are coming: the last heel strike lies within the extrapolation horizon and the
+  // walker still bounces.
+  bool stepping() const { return extrapolating_; }
+  // Another motion model covered the distance so far: no catch-up for it.
+  void sync() { output_m_ = expected_m(); }
+
+  double walked_m() const { return steps_m_; }   // sum of step lengths
+  double output_m() const { return output_m_; }  // distance handed out so far
+  double expected_m() const { return steps_m_ + extrapolated_m_; }
+  bool walking() const;                          // bounce above bounce_rms_mps2
+  double bounce_rms() const;
+  // The last step's period (for the motion noise) and the step itself.
+  double step_period_s() const { return period_s_; }
+  const Step& last_step() const { return last_; }
+  bool has_step() const { return have_step_; }
+
+ private:
+  double rate_factor() const;  // bounce now / bounce at the steps, in [0, 1]
+
+  GaitSpeedOptions options_;
+  double confirmation_delay_s_;
+  std::deque<std::pair<TimeNs, double>> bounce_;  // a_up over the RMS window
+  double bounce_sum2_ = 0.0;
+  double bounce_ref_ = 0.0;  // EMA of the bounce RMS at step confirmations
+  TimeNs t_ = 0;
+  bool have_t_ = false;
+  double steps_m_ = 0.0;        // distance walked up to the last heel strike
+  double extrapolated_m_ = 0.0; // beyond it
+  bool extrapolating_ = false;
+  Step last_;
+  bool have_step_ = false;
+  double period_s_ = 0.55;
+  double speed_mps_ = 0.0;      // l_k / T_k of the last step
+  double output_m_ = 0.0;
+  double accel_speed_mps_ = 0.0;  // high-passed integral of the along-track acceleration
+  double accel_mean_mps2_ = 0.0;  // its slow mean (bias, attitude leak)
+  double abs_yaw_rate_ = 0.0;     // EMA of |omega|
+  double turn_integral_ = 0.0;    // integral of turn_factor() dt since the start
+  std::deque<std::pair<TimeNs, double>> turn_history_;  // (t, turn_integral_) over a few steps
+  double turn_integral_at(TimeNs t) const;
+};
+
+}  // namespace luxloc

@@ -1,0 +1,153 @@
+// The motion models of the planar filters (core/filter/motion_model.hpp): the pedestrian
+// model's gait calibration (step-length scale, heading offset) learnt from fixes carries
+// the dead reckoning through an outage, in the particle filter and in the EKF alike.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <memory>
+#include <tbb/global_control.h>
+
+#include "core/filter/ekf_filter.hpp"
+#include "core/filter/fast_rng.hpp"
+#include "core/filter/motion_model.hpp"
+#include "core/filter/particle_filter.hpp"
+
+using namespace luxloc;
+
+namespace {
+
+// A walker on a 4 m circle at 1.2 m/s. Its PDR reports a speed 1/0.9 too high (step-length
+// scale 0.9) and a heading 0.06 rad too small (heading offset +0.06); fixes (3 cm) at 10 Hz
+// for `fixes_s`, then none for `outage_s`. Returns the position error at the end.
+struct Outcome {
+  double err_end_m = 0.0;
+  double max_err_outage_m = 0.0;
+};
+
+constexpr double kSpeed = 1.2, kRadius = 4.0, kScale = 0.9, kOffset = 0.06;
+
+Outcome walk(PlanarFilter& f, double fixes_s = 30.0, double outage_s = 15.0) {
+  const double dt = 0.01;
+  Eigen::Vector2d p(kRadius, 0.0);
+  f.initialize(p, Eigen::Matrix2d::Identity() * 0.01);
+  FastRng noise(5);
+  Outcome o;
+  const int n = static_cast<int>((fixes_s + outage_s) / dt);
+  for (int k = 1; k <= n; ++k) {
+    const double t = k * dt;
+    const double heading = M_PI / 2 + kSpeed / kRadius * (t - 0.5 * dt);  // true heading over the step
+    p += kSpeed * dt * Eigen::Vector2d(std::cos(heading), std::sin(heading));
+    MotionInput u;
+    u.dt = dt;
+    u.has_gait = true;
+    u.gait.speed_mps = kSpeed / kScale;
+    u.gait.heading_rad = heading - kOffset;
+    u.gait.length_sigma_m = 0.05 * 0.67;
+    u.gait.heading_sigma_rad = 0.035;
+    u.gait.step_period_s = 0.55;
+    f.predict(u);
+    if (t <= fixes_s && k % 10 == 0) {
+      PositionMeasurement m;
+      m.z = p + 0.03 * Eigen::Vector2d(noise.normal(), noise.normal());
+      m.R = Eigen::Matrix2d::Identity() * 0.03 * 0.03;
+      f.correct(m);
+    }
+    const PlanarEstimate e = f.estimate();
+    REQUIRE(e.valid);
+    const double err = (e.p - p).norm();
+    if (t > fixes_s) o.max_err_outage_m = std::max(o.max_err_outage_m, err);
+    o.err_end_m = err;
+  }
+  return o;
+}
+
+}  // namespace
+
+TEST_CASE("Particle filter, pedestrian model: the fixes calibrate step length and heading offset", "[filter][motion]") {
+  ParticleFilterOptions opt;
+  opt.particles = 5000;
+  ParticleFilter pf(opt);
+  const Outcome o = walk(pf);
+  const ParticleFilter::GaitEstimate g = pf.gait_estimate();
+  REQUIRE(g.valid);
+  INFO("scale " << g.scale << " +- " << g.scale_sigma << ", offset " << g.heading_offset_rad << " +- "
+                << g.heading_offset_sigma << "; outage: max " << o.max_err_outage_m << " m, end " << o.err_end_m);
+  CHECK(g.scale == Approx(kScale).margin(0.03));
+  CHECK(g.heading_offset_rad == Approx(kOffset).margin(0.02));
+  // 18 m of dead reckoning through the outage with the calibrated gait.
+  CHECK(o.max_err_outage_m < 0.5);
+
+  // Without calibration states (no prior spread, no walk) the same outage ends far off.
+  ParticleFilterOptions fixed = opt;
+  fixed.gait.scale_sigma0 = fixed.gait.heading_offset_sigma0 = 0.0;
+  fixed.gait.scale_walk = fixed.gait.heading_offset_walk = 0.0;
+  ParticleFilter pf_fixed(fixed);
+  const Outcome uncal = walk(pf_fixed);
+  INFO("uncalibrated: max " << uncal.max_err_outage_m << " m");
+  CHECK(uncal.max_err_outage_m > 3.0 * o.max_err_outage_m);
+}
+
+TEST_CASE("EKF, pedestrian model: the same calibration through its Jacobian", "[filter][motion]") {
+  EkfFilter ekf;
+  const Outcome o = walk(ekf);
+  const auto& x = ekf.full_state();
+  INFO("scale " << x(4) << ", offset " << x(5) << "; outage: max " << o.max_err_outage_m << " m");
+  CHECK(x(4) == Approx(kScale).margin(0.03));
+  CHECK(x(5) == Approx(kOffset).margin(0.02));
+  CHECK(o.max_err_outage_m < 0.5);
+  CHECK(ekf.covariance().allFinite());
+}
+
+TEST_CASE("Pedestrian model: bit-identical across thread counts, resampling keeps the gait states", "[filter][motion]") {
+  ParticleFilterOptions opt;
+  opt.particles = 20000;  // several chunks
+  auto run = [&](int threads) {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+    ParticleFilter pf(opt);
+    walk(pf, 3.0, 1.0);
+    return pf;
+  };
+  const ParticleFilter a = run(1), b = run(2);
+  REQUIRE(a.particles().gait);
+  REQUIRE(a.particles().ks.size() == a.size());
+  CHECK(a.resample_count() > 0);
+  bool same = true;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    same = same && a.particles().x[i] == b.particles().x[i] && a.particles().ks[i] == b.particles().ks[i] &&
+           a.particles().dpsi[i] == b.particles().dpsi[i];
+  CHECK(same);
+}
+
+TEST_CASE("Pedestrian model: non-finite gait inputs predict nothing; standing still does not drift", "[filter][motion]") {
+  for (const bool particle : {true, false}) {
+    std::unique_ptr<PlanarFilter> f;
+    if (particle)
+      f = std::make_unique<ParticleFilter>();
+    else
+      f = std::make_unique<EkfFilter>();
+    f->initialize({1.0, 2.0}, Eigen::Matrix2d::Identity() * 0.01);
+    MotionInput u;
+    u.dt = 0.01;
+    u.has_gait = true;
+    u.gait.speed_mps = NAN;
+    f->predict(u);
+    u.gait.speed_mps = 1.0;
+    u.gait.heading_rad = INFINITY;
+    f->predict(u);
+    PlanarEstimate e = f->estimate();
+    REQUIRE(e.valid);
+    CHECK((e.p - Eigen::Vector2d(1.0, 2.0)).norm() < 0.01);
+    // 60 s standing: speed 0, no per-step noise; only the small diffusion floor.
+    u.gait = GaitInput{};
+    for (int k = 0; k < 6000; ++k) f->predict(u);
+    e = f->estimate();
+    REQUIRE(e.valid);
+    CHECK((e.p - Eigen::Vector2d(1.0, 2.0)).norm() < 0.05);
+    CHECK(e.v.norm() < 1e-6);
+    CHECK(std::sqrt(e.cov_p.trace()) < 0.3);
+  }
+}
+
+TEST_CASE("Motion model names parse and print", "[filter][motion]") {
+  for (const std::string& n : motion_model_names()) CHECK(to_string(parse_motion_model(n)) == n);
+  CHECK_THROWS_AS(parse_motion_model("walk"), std::invalid_argument);
+}

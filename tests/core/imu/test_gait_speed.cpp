@@ -1,0 +1,97 @@
+#include <catch2/catch.hpp>
+#include <cmath>
+
+#include "core/imu/gait_speed.hpp"
+
+using namespace luxloc;
+
+namespace {
+
+// A walker bouncing at 1.8 Hz (vertical acceleration 1.5 m/s^2) from t_walk0 to t_walk1,
+// 0.7 m steps at every heel strike, each reported confirm_s after it (as the detector
+// does). Returns the distance GaitSpeed hands out at 100 Hz, sampled at `probe_s`.
+struct Walk {
+  double t_walk0 = 1.0, t_walk1 = 11.0, period_s = 1.0 / 1.8, length_m = 0.7, confirm_s = 0.3;
+  double end_s = 14.0;
+};
+
+double walked_truth(const Walk& w, double t) {
+  const double v = w.length_m / w.period_s;
+  return v * std::clamp(t - w.t_walk0, 0.0, w.t_walk1 - w.t_walk0);
+}
+
+}  // namespace
+
+TEST_CASE("Gait speed follows the walked distance without a step of lag and stops with the walker", "[imu][motion]") {
+  const Walk w;
+  GaitSpeed gs;
+  double next_strike = w.t_walk0 + w.period_s;  // the first heel strike ends the first step
+  bool first = true;
+  double max_lag = 0.0, at_stop = 0.0;
+  TimeNs t_prev = 0;
+  for (int k = 0; k <= static_cast<int>(w.end_s * 100); ++k) {
+    const double t = k * 0.01;
+    const bool walking = t > w.t_walk0 && t < w.t_walk1;
+    gs.update(seconds_to_ns(t), walking ? 1.5 * std::cos(2 * M_PI * 1.8 * (t - w.t_walk0)) : 0.01);
+    // Steps are confirmed confirm_s after their heel strike.
+    while (next_strike <= w.t_walk1 && t >= next_strike + w.confirm_s) {
+      Step s;
+      s.t = seconds_to_ns(next_strike);
+      s.length_m = w.length_m;
+      s.interval_s = first ? 0.0 : w.period_s;
+      first = false;
+      gs.add_step(s);
+      next_strike += w.period_s;
+    }
+    if (k > 0) gs.take_speed(t_prev, seconds_to_ns(t));
+    t_prev = seconds_to_ns(t);
+    if (t > w.t_walk0 + 2.0 && t < w.t_walk1) max_lag = std::max(max_lag, std::abs(gs.output_m() - walked_truth(w, t)));
+    if (std::abs(t - (w.t_walk1 + 2.0)) < 1e-9) at_stop = gs.output_m();
+  }
+  const double total = walked_truth(w, w.end_s);
+  INFO("output " << gs.output_m() << " m, truth " << total << " m, max lag " << max_lag << " m");
+  // In steady walking the output stays within a small part of a step of the truth...
+  CHECK(max_lag < 0.15);
+  // ...it stops when the walker does (no drift while standing) and ends near the truth.
+  CHECK(gs.output_m() == Approx(at_stop).margin(1e-9));
+  // (This walker stops dead; the extrapolation runs on until the bounce window empties.)
+  CHECK(std::abs(gs.output_m() - total) < 0.5);
+  // No turning: every step counts in full.
+  CHECK(gs.walked_m() == Approx(w.length_m * std::floor((w.t_walk1 - w.t_walk0) / w.period_s + 1e-9)).epsilon(1e-6));
+}
+
+TEST_CASE("Gait speed is zero before the first step and never negative or NaN", "[imu][motion]") {
+  GaitSpeed gs;
+  gs.update(seconds_to_ns(0.0), 0.0);
+  CHECK(gs.take_speed(0, seconds_to_ns(0.01)) == 0.0);
+  gs.update(seconds_to_ns(0.02), NAN);  // ignored
+  Step bad;
+  bad.length_m = NAN;
+  gs.add_step(bad);  // ignored
+  CHECK_FALSE(gs.has_step());
+  CHECK(gs.take_speed(seconds_to_ns(0.01), seconds_to_ns(0.02)) == 0.0);
+  CHECK(gs.take_speed(seconds_to_ns(0.02), seconds_to_ns(0.02)) == 0.0);  // dt = 0
+}
+
+TEST_CASE("Gait speed shortens turning steps by the turn slowdown", "[imu][motion]") {
+  GaitSpeedOptions o;
+  o.turn_slowdown_s_per_rad = 0.2;
+  GaitSpeed gs(o);
+  // Bouncing and turning at 1 rad/s for 5 s, a 0.7 m step every 0.5 s once the yaw-rate
+  // average has settled (from 2 s).
+  for (int k = 0; k <= 500; ++k) {
+    const double t = k * 0.01;
+    gs.update(seconds_to_ns(t), 1.5 * std::cos(2 * M_PI * 2.0 * t), 0.0, 1.0);
+    if (k >= 200 && k % 50 == 30) {  // strikes at 2.0, 2.5, ... confirmed 0.3 s later
+      Step s;
+      s.t = seconds_to_ns(t - 0.3);
+      s.length_m = 0.7;
+      s.interval_s = 0.5;
+      gs.add_step(s);
+    }
+  }
+  REQUIRE(gs.has_step());
+  CHECK(gs.turn_factor() == Approx(0.8).margin(0.01));
+  // Six steps of 0.7 m, each counted at 80 %.
+  CHECK(gs.walked_m() == Approx(6 * 0.7 * 0.8).margin(0.02));
+}
