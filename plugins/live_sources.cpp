@@ -2,13 +2,15 @@
 
 #include "core/common/input_error.hpp"
 #include "plugins/serial/serial_imu_source.hpp"
+#include "plugins/v4l2/v4l2_camera_source.hpp"
 
 namespace luxloc {
 
-std::vector<std::string> live_source_kinds() { return {"serial-imu"}; }
+std::vector<std::string> live_source_kinds() { return {"serial-imu", "v4l2"}; }
 
 SourcePtr make_live_source(const SourceSpec& spec) {
   if (spec.kind == "serial-imu") return make_serial_imu_source(spec);
+  if (spec.kind == "v4l2") return make_v4l2_camera_source(spec);
   std::string kinds = "playback";
   for (const auto& k : live_source_kinds()) kinds += ", " + k;
   throw InputError("--source", 0, "--source",
