@@ -88,6 +88,23 @@ Scenario square() {
   return s;
 }
 
+// The walk under a higher ceiling (3.6 m: 2.6 m above the device) with larger discs
+// (0.35 m, ~60 px across): the camera sees a 3.6 m x 2.7 m patch of the ceiling, so 1-4
+// LEDs of the 2 m grid are in view at once (the walk mostly shows one). Same LED ids and
+// frequencies as every other scenario; for the multi-LED decoder check and the RSS fix.
+Scenario dense() {
+  Scenario s = walk();
+  s.name = "dense";
+  s.description = "the walk under a 3.6 m ceiling with 0.35 m LEDs: 1-4 LEDs in view at once";
+  std::vector<Led> leds = s.map.leds();
+  for (Led& l : leds) {
+    l.p_inW.z() = 3.6;
+    l.diameter_m = 0.35;
+  }
+  s.map = LedMap(std::move(leds), "sim:dense_led_grid");
+  return s;
+}
+
 Scenario still() {
   Scenario s = base("static", "standing still at (3, 2) facing 0.5 rad, LEDs 2 and 6 in view", 30.0);
   s.trajectory = std::make_shared<StaticTrajectory>(Eigen::Vector3d(3.0, 2.0, s.device_height_m), 0.5);
@@ -96,12 +113,13 @@ Scenario still() {
 
 }  // namespace
 
-std::vector<std::string> scenario_names() { return {"walk", "static", "square"}; }
+std::vector<std::string> scenario_names() { return {"walk", "static", "square", "dense"}; }
 
 Scenario make_scenario(const std::string& name) {
   if (name == "walk") return walk();
   if (name == "static") return still();
   if (name == "square") return square();
+  if (name == "dense") return dense();
   std::string valid;
   for (const std::string& n : scenario_names()) valid += (valid.empty() ? "" : ", ") + n;
   throw std::invalid_argument("unknown scenario '" + name + "' (valid: " + valid + ")");
