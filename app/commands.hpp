@@ -16,5 +16,7 @@ void add_eval_command(CLI::App& root, Action& action);
 void add_imu_command(CLI::App& root, Action& action);
 void add_calib_command(CLI::App& root, Action& action);
 void add_bench_command(CLI::App& root, Action& action);
+void add_devices_command(CLI::App& root, Action& action);
+void add_vlc_command(CLI::App& root, Action& action);
 
 }  // namespace luxloc::app

@@ -20,6 +20,8 @@ int main(int argc, char** argv) {
   luxloc::app::add_imu_command(root, action);
   luxloc::app::add_calib_command(root, action);
   luxloc::app::add_bench_command(root, action);
+  luxloc::app::add_devices_command(root, action);
+  luxloc::app::add_vlc_command(root, action);
   try {
     root.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
