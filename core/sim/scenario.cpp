@@ -89,17 +89,20 @@ Scenario square() {
 }
 
 // The walk under a higher ceiling (3.6 m: 2.6 m above the device) with larger discs
-// (0.35 m, ~60 px across): the camera sees a 3.6 m x 2.7 m patch of the ceiling, so 1-4
-// LEDs of the 2 m grid are in view at once (the walk mostly shows one). Same LED ids and
-// frequencies as every other scenario; for the multi-LED decoder check and the RSS fix.
+// (0.40 m, ~70 px across): the camera sees a 3.6 m x 2.7 m patch of the ceiling, so 1-2
+// whole LEDs of the 2 m grid and 2-4 in all (up to 6 with partly visible ones at the
+// edges) are in view at once, where the walk mostly shows one. The disc size follows the
+// room-design rule of docs/VLC.md: the lowest frequency's stripe period (1000 Hz: 33 rows
+// at 30 us) fits at least twice into a blob. Same LED ids and frequencies as every other
+// scenario. For the multi-LED decoder check and the RSS fix.
 Scenario dense() {
   Scenario s = walk();
   s.name = "dense";
-  s.description = "the walk under a 3.6 m ceiling with 0.35 m LEDs: 1-4 LEDs in view at once";
+  s.description = "the walk under a 3.6 m ceiling with 0.40 m LEDs: 1-4 LEDs in view at once";
   std::vector<Led> leds = s.map.leds();
   for (Led& l : leds) {
     l.p_inW.z() = 3.6;
-    l.diameter_m = 0.35;
+    l.diameter_m = 0.40;
   }
   s.map = LedMap(std::move(leds), "sim:dense_led_grid");
   return s;
