@@ -486,13 +486,20 @@ int run_vlc(const VlcArgs& a) {
   if (n_frames > 0)
     std::printf("decode time: %.2f ms per frame (mean, one thread, incl. every blob)\n",
                 1e3 * decode_seconds / static_cast<double>(n_frames));
-  if (!per_id.empty()) {
-    std::printf("decoded per LED:\n  %6s %8s %10s %10s %9s %8s\n", "id", "decodes", "map Hz", "mean Hz", "sd Hz", "sd %");
-    for (const auto& [id, r] : per_id) {
-      const Led* led = map->find_id(id);
-      std::printf("  %6d %8ld %10.1f %10.1f %9.1f %8.2f\n", id, r.n, led ? led->freq_hz : 0.0, r.mean, r.sd(),
-                  r.mean > 0 ? 100.0 * r.sd() / r.mean : 0.0);
-    }
+  // Every LED of the map, seen or not; "needs rows": the blob height below which the
+  // decoder refuses it (min_periods stripe periods of its frequency): a room-design check.
+  std::printf("decoded per LED (map order):\n  %6s %8s %10s %10s %9s %7s %8s %10s\n", "id", "decodes", "map Hz",
+              "mean Hz", "sd Hz", "sd %", "period", "needs rows");
+  for (const Led& led : map->leds()) {
+    const auto it = per_id.find(led.id);
+    const Running r = it == per_id.end() ? Running{} : it->second;
+    const double period = 1.0 / (led.freq_hz * camera->row_time_s);
+    if (r.n > 0)
+      std::printf("  %6d %8ld %10.1f %10.1f %9.1f %7.2f %8.1f %10.0f\n", led.id, r.n, led.freq_hz, r.mean, r.sd(),
+                  r.mean > 0 ? 100.0 * r.sd() / r.mean : 0.0, period, std::ceil(decoder.options().min_periods * period));
+    else
+      std::printf("  %6d %8d %10.1f %10s %9s %7s %8.1f %10.0f\n", led.id, 0, led.freq_hz, "-", "-", "-", period,
+                  std::ceil(decoder.options().min_periods * period));
   }
   if (!rejected.empty()) {
     std::printf("rejected blobs by reason:\n");

@@ -88,21 +88,22 @@ Scenario square() {
   return s;
 }
 
-// The walk under a higher ceiling (3.6 m: 2.6 m above the device) with larger discs
-// (0.40 m, ~70 px across): the camera sees a 3.6 m x 2.7 m patch of the ceiling, so 1-2
-// whole LEDs of the 2 m grid and 2-4 in all (up to 6 with partly visible ones at the
-// edges) are in view at once, where the walk mostly shows one. The disc size follows the
-// room-design rule of docs/VLC.md: the lowest frequency's stripe period (1000 Hz: 33 rows
-// at 30 us) fits at least twice into a blob. Same LED ids and frequencies as every other
-// scenario. For the multi-LED decoder check and the RSS fix.
+// The walk under a higher ceiling (3.6 m: 2.6 m above the device) with a denser grid
+// (1.5 m, centred in the room) of larger discs (0.40 m, ~70 px across): the camera sees a
+// 3.6 m x 2.7 m patch of the ceiling, so 1-4 whole LEDs (up to 6 near the middle of the
+// room) are in view at once, where the walk shows one: enough for the RSS fix (>= 3) and
+// the multi-LED decoder check. The disc size follows the room-design rule of docs/VLC.md:
+// the lowest frequency's stripe period (1000 Hz: 33 rows at 30 us) fits twice into a blob.
+// Same LED ids and frequencies as every other scenario.
 Scenario dense() {
   Scenario s = walk();
   s.name = "dense";
-  s.description = "the walk under a 3.6 m ceiling with 0.40 m LEDs: 1-4 LEDs in view at once";
+  s.description = "the walk under a 3.6 m ceiling, 0.40 m LEDs 1.5 m apart: 1-4 whole LEDs in view at once";
   std::vector<Led> leds = s.map.leds();
-  for (Led& l : leds) {
-    l.p_inW.z() = 3.6;
-    l.diameter_m = 0.40;
+  for (std::size_t i = 0; i < leds.size(); ++i) {
+    // The 4 x 3 grid, 1.5 m apart, centred in the room: x = 1.75 .. 6.25, y = 1.5 .. 4.5.
+    leds[i].p_inW = {1.75 + 1.5 * static_cast<double>(i % 4), 1.5 + 1.5 * static_cast<double>(i / 4), 3.6};
+    leds[i].diameter_m = 0.40;
   }
   s.map = LedMap(std::move(leds), "sim:dense_led_grid");
   return s;

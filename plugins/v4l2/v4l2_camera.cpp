@@ -4,6 +4,7 @@
 #include <libv4l2.h>
 #include <linux/videodev2.h>
 #include <poll.h>
+#include <sys/ioctl.h>
 #include <sys/mman.h>
 #include <unistd.h>
 
@@ -105,8 +106,10 @@ int V4l2Camera::xioctl(unsigned long request, void* arg) const {
 
 void V4l2Camera::open_device() {
   const std::string& path = options_.path;
-  fd_ = v4l2_open(path.c_str(), O_RDWR | O_NONBLOCK | O_CLOEXEC);
-  if (fd_ < 0) {
+  // Plain open() and VIDIOC_QUERYCAP first, then libv4l2 takes the descriptor over
+  // (v4l2_fd_open): a file that is no V4L2 device gets our message, not libv4l2's.
+  const int raw = ::open(path.c_str(), O_RDWR | O_NONBLOCK | O_CLOEXEC);
+  if (raw < 0) {
     const int e = errno;
     if (e == ENOENT || e == ENODEV || e == ENXIO)
       throw V4l2Error(V4l2Error::Kind::no_device,
@@ -120,9 +123,22 @@ void V4l2Camera::open_device() {
     throw V4l2Error(V4l2Error::Kind::io, path + ": cannot open: " + errno_text(e));
   }
   v4l2_capability cap{};
-  if (xioctl(VIDIOC_QUERYCAP, &cap) != 0)
+  int r;
+  do {
+    r = ::ioctl(raw, VIDIOC_QUERYCAP, &cap);
+  } while (r == -1 && errno == EINTR);
+  if (r != 0) {
+    const int e = errno;
+    ::close(raw);
     throw V4l2Error(V4l2Error::Kind::not_capture,
-                    path + ": not a V4L2 device (VIDIOC_QUERYCAP failed: " + errno_text(errno) + ")");
+                    path + ": not a V4L2 device (VIDIOC_QUERYCAP failed: " + errno_text(e) + ")");
+  }
+  fd_ = v4l2_fd_open(raw, 0);
+  if (fd_ < 0) {
+    const int e = errno;
+    ::close(raw);
+    throw V4l2Error(V4l2Error::Kind::io, path + ": libv4l2 cannot take the device over: " + errno_text(e));
+  }
   driver_ = cstr(cap.driver, sizeof cap.driver);
   card_ = cstr(cap.card, sizeof cap.card);
   const std::uint32_t caps = (cap.capabilities & V4L2_CAP_DEVICE_CAPS) ? cap.device_caps : cap.capabilities;
@@ -150,7 +166,10 @@ void V4l2Camera::negotiate_format() {
     return 0u;
   };
   std::string offered;
-  for (std::uint32_t f : all) offered += (offered.empty() ? "" : " ") + fourcc_text(f);
+  for (std::uint32_t f : all) {
+    if (!offered.empty()) offered.append(" ");
+    offered.append(fourcc_text(f));
+  }
   std::uint32_t chosen = 0;
   if (options_.format) {
     chosen = has(pixel_format_fourcc(*options_.format));
@@ -267,7 +286,10 @@ void V4l2Camera::set_exposure_and_gain() {
       }
       if (!has_manual) {
         std::string modes;
-        for (const auto& [index, name] : ae->menu) modes += (modes.empty() ? "" : ", ") + std::to_string(index) + " " + name;
+        for (const auto& [index, name] : ae->menu) {
+          if (!modes.empty()) modes.append(", ");
+          modes.append(std::to_string(index)).append(" ").append(name);
+        }
         throw V4l2Error(V4l2Error::Kind::no_manual_exposure,
                         options_.path + ": " + ae->ctl_name + " has no manual mode (modes: " + modes + ")");
       }

@@ -63,28 +63,29 @@ TEST_CASE("id check: right, wrong, missed by reason, small and cut blobs not cou
   CHECK(c.wrong == 3);
 }
 
-TEST_CASE("simulated dense walk (1-4 LEDs in view): >= 99.5 % of full blobs right, <= 0.1 % wrong", "[vlc][sim]") {
+TEST_CASE("simulated dense walk (1-4 whole LEDs in view): >= 99.5 % of full blobs right, <= 0.1 % wrong", "[vlc][sim]") {
   sim::SimOptions o;
   o.seed = 7;
   o.duration_s = 20.0;  // 600 frames, the start, a corner, the first straight
   const sim::Simulator s(sim::make_scenario("dense"), o);
   const StripeDecoder decoder(s.scenario().camera, s.scenario().map);
   IdCheckCounts c;
-  std::vector<int> frames_with(8, 0);  // frames by number of LEDs on the sensor
+  std::vector<int> frames_with(8, 0);  // frames by number of whole LEDs (fully inside the image)
   for (std::size_t k = 0; k < s.frame_count(); ++k) {
     const sim::RenderedFrame f = s.render(k);
-    frames_with[std::min<std::size_t>(f.leds.size(), 7)]++;
+    const auto whole = std::count_if(f.leds.begin(), f.leds.end(), [](const sim::RenderedLed& l) { return l.fully_inside; });
+    frames_with[std::min<std::size_t>(static_cast<std::size_t>(whole), 7)]++;
     tally_ids(decoder.decode(f.gray), truth_of(f), c);
   }
-  INFO("frames with 0..7 LEDs: " << frames_with[0] << " " << frames_with[1] << " " << frames_with[2] << " "
-                                 << frames_with[3] << " " << frames_with[4] << " " << frames_with[5] << " "
-                                 << frames_with[6] << " " << frames_with[7]);
+  INFO("frames with 0..7 whole LEDs: " << frames_with[0] << " " << frames_with[1] << " " << frames_with[2] << " "
+                                       << frames_with[3] << " " << frames_with[4] << " " << frames_with[5] << " "
+                                       << frames_with[6] << " " << frames_with[7]);
   INFO(c.qualifying << " qualifying, " << c.right << " right, " << c.decodes << " decodes, " << c.wrong << " wrong, "
                     << c.rejected << " rejected");
   for (const auto& [why, n] : c.missed_by) INFO("missed " << why << ": " << n);
-  CHECK(frames_with[0] == 0);
-  CHECK(frames_with[5] + frames_with[6] + frames_with[7] == 0);
-  CHECK(frames_with[2] + frames_with[3] + frames_with[4] > 300);  // mostly several LEDs at once
+  const int one_to_four = frames_with[1] + frames_with[2] + frames_with[3] + frames_with[4];
+  CHECK(one_to_four >= 0.85 * static_cast<double>(s.frame_count()));
+  CHECK(frames_with[2] + frames_with[3] + frames_with[4] >= 200);  // several LEDs at once, often
   CHECK(c.qualifying > 800);
   CHECK(c.right_fraction() >= 0.995);
   CHECK(c.wrong_fraction() <= 0.001);
