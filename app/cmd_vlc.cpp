@@ -517,6 +517,7 @@ int run_vlc(const VlcArgs& a) {
     std::printf("  blobs fully inside & >= 20 rows %ld: right %ld (%.2f %%), missed %ld\n", ids.qualifying, ids.right,
                 100.0 * ids.right_fraction(), ids.missed);
     for (const auto& [why, n] : ids.missed_by) std::printf("    missed: %-20s %ld\n", why.c_str(), n);
+    for (const auto& [id, n] : ids.missed_by_id) std::printf("    missed: LED %-16d %ld\n", id, n);
     std::printf("  decodes %ld: wrong %ld (%.3f %% of all decodes)\n", ids.decodes, ids.wrong, 100.0 * ids.wrong_fraction());
     std::printf("  dark frames %ld: LEDs decoded in them %ld\n", ids.dark_frames, ids.dark_frame_decodes);
   }

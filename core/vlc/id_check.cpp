@@ -10,6 +10,7 @@ void IdCheckCounts::add(const IdCheckCounts& o) {
   right += o.right;
   missed += o.missed;
   for (const auto& [k, v] : o.missed_by) missed_by[k] += v;
+  for (const auto& [k, v] : o.missed_by_id) missed_by_id[k] += v;
   decodes += o.decodes;
   wrong += o.wrong;
   rejected += o.rejected;
@@ -65,6 +66,7 @@ void tally_ids(const std::vector<LedObservation>& decoded, const std::vector<Tru
       continue;
     }
     ++counts.missed;
+    counts.missed_by_id[t.id]++;
     counts.missed_by[!g ? "not found" : g->accepted() ? "wrong id" : g->reject_reason]++;
   }
 }

@@ -36,6 +36,7 @@ struct IdCheckCounts {
   long right = 0;                // ... decoded with the right id
   long missed = 0;               // ... not decoded with the right id (qualifying - right)
   std::map<std::string, long> missed_by;  // why: the decoder's reject reason, "wrong id" or "not found"
+  std::map<int, long> missed_by_id;       // which LED (true id)
   long decodes = 0;              // accepted observations, all blobs
   long wrong = 0;                // accepted with an id that is not the LED there (or no LED there)
   long rejected = 0;             // blobs the decoder refused

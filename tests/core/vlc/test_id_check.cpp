@@ -48,6 +48,7 @@ TEST_CASE("id check: right, wrong, missed by reason, small and cut blobs not cou
   CHECK(c.missed == 2);
   CHECK(c.missed_by["wrong id"] == 1);
   CHECK(c.missed_by["no stripes"] == 1);
+  CHECK(c.missed_by_id == std::map<int, long>{{2, 1}, {3, 1}});
   CHECK(c.decodes == 4);
   CHECK(c.wrong == 2);  // id 7 on LED 2, and id 9 where no LED is
   CHECK(c.rejected == 1);
