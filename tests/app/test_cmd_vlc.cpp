@@ -20,20 +20,18 @@ double figure(const std::string& out, const std::string& pattern) {
 }
 
 // 8 s of the dense scenario (1-4 LEDs in view), JPEG frames as `luxloc sim` writes by default.
-const std::filesystem::path& dense_session() {
-  static const std::filesystem::path dir = [] {
-    const auto d = test::scratch_dir("cmd_vlc_dense");
-    const auto r = test::run_luxloc("sim --out '" + d.string() + "' --scenario dense --duration 8 --seed 4 --blackout 6:0.5");
-    REQUIRE(r.exit_code == 0);
-    return d;
-  }();
-  return dir;
+// One folder per test case: ctest runs the cases in parallel processes.
+std::filesystem::path dense_session(const std::string& name) {
+  const auto d = test::scratch_dir(name);
+  const auto r = test::run_luxloc("sim --out '" + d.string() + "' --scenario dense --duration 8 --seed 4 --blackout 6:0.5");
+  REQUIRE(r.exit_code == 0);
+  return d;
 }
 
 }  // namespace
 
 TEST_CASE("luxloc vlc: report, per-blob CSV, id check and positions on a simulated dense walk", "[vlc][app]") {
-  const auto& dir = dense_session();
+  const auto dir = dense_session("cmd_vlc_dense_report");
   const auto csv = dir / "decodes.csv";
   const auto r = test::run_luxloc("vlc --playback '" + dir.string() + "' --out '" + csv.string() +
                                   "' --check-ids --position both --rss-calibrate 2 --view");
@@ -86,7 +84,7 @@ TEST_CASE("luxloc vlc: report, per-blob CSV, id check and positions on a simulat
 }
 
 TEST_CASE("luxloc vlc: true attitude, no ground truth, bad usage", "[vlc][app]") {
-  const auto& dir = dense_session();
+  const auto dir = dense_session("cmd_vlc_dense_usage");
   auto r = test::run_luxloc("vlc --playback '" + dir.string() + "' --position geometry --truth --duration 3");
   INFO(r.output);
   REQUIRE(r.exit_code == 0);
