@@ -52,6 +52,10 @@ struct StripeDecoderOptions {
   // Fewer stripe periods across the blob: "too few rows". At 1.5, rendered frames let a
   // 2nd / 3rd harmonic through now and then (~0.2 % of decodes); at 1.75 none in ~11000.
   double min_periods = 1.75;
+  // Blobs with fewer periods than min_periods (but at least this many, by the edge
+  // estimate) are measured by their stripe edges instead (estimate_period_from_edges);
+  // sharp blobs only, and only when all LEDs of the map share one duty. 0 = off.
+  double min_edge_periods = 1.0;
   double min_explained = 0.3;           // periodic share of the profile variance: below = "no stripes"
   double min_peak_to_sidelobe = 1.5;    // below: "ambiguous frequency"
   StripePeriodOptions period{};
@@ -83,6 +87,7 @@ class StripeDecoder {
   int closing_rows_ = 3;
   double min_period_rows_ = 2.0, max_period_rows_ = 100.0;
   double rel_tolerance_ = 0.05;
+  double common_duty_ = 0.0;  // the map's duty when all LEDs share it, else 0
 };
 
 }  // namespace luxloc
