@@ -48,6 +48,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// The report goes to stdout, or to stderr when the per-blob CSV does (--out -).
+std::FILE* g_report = stdout;
+
 struct VlcArgs {
   std::string playback;
   std::string source;
@@ -191,14 +194,14 @@ struct ErrorStats {
 
 void print_errors(const char* method, const ErrorStats& s, bool have_truth) {
   if (!have_truth) {
-    std::printf("  %-9s %ld fixes from %ld frames with LEDs\n", method, static_cast<long>(s.e.size()), s.attempts);
+    std::fprintf(g_report, "  %-9s %ld fixes from %ld frames with LEDs\n", method, static_cast<long>(s.e.size()), s.attempts);
     return;
   }
   if (s.e.empty()) {
-    std::printf("  %-9s n 0 fixes (from %ld frames with LEDs)\n", method, s.attempts);
+    std::fprintf(g_report, "  %-9s n 0 fixes (from %ld frames with LEDs)\n", method, s.attempts);
     return;
   }
-  std::printf("  %-9s n %ld fixes (from %ld frames with LEDs)  median %.3f m  p95 %.3f m  max %.3f m\n", method,
+  std::fprintf(g_report, "  %-9s n %ld fixes (from %ld frames with LEDs)  median %.3f m  p95 %.3f m  max %.3f m\n", method,
               static_cast<long>(s.e.size()), s.attempts, s.quantile(0.5), s.quantile(0.95), s.quantile(1.0));
 }
 
@@ -218,14 +221,14 @@ class Viewer {
     const char* x = std::getenv("DISPLAY");
     const char* w = std::getenv("WAYLAND_DISPLAY");
     if ((!x || !*x) && (!w || !*w)) {
-      std::printf("--view: cannot open a window (neither DISPLAY nor WAYLAND_DISPLAY is set); carrying on without\n");
+      std::fprintf(g_report, "--view: cannot open a window (neither DISPLAY nor WAYLAND_DISPLAY is set); carrying on without\n");
       return;
     }
     try {
       cv::namedWindow(kName, cv::WINDOW_AUTOSIZE);
       open_ = true;
     } catch (const cv::Exception& e) {
-      std::printf("--view: cannot open a window (%s); carrying on without\n", e.what());
+      std::fprintf(g_report, "--view: cannot open a window (%s); carrying on without\n", e.what());
     }
   }
   ~Viewer() {
@@ -328,21 +331,22 @@ int run_vlc(const VlcArgs& a) {
   if (!map) throw InputError((dir / "ledmap.yaml").string(), 0, "leds", "no LED map (ledmap.yaml or --map)");
   if (!camera) throw InputError((dir / "camera.yaml").string(), 0, "camera_matrix", "no camera file (camera.yaml or --camera)");
   if ((want_geometry || want_rss) && !std::isfinite(device_height))
-    std::printf("note: no device_height_m (session.yaml or --height): geometry fixes need >= 2 LEDs, RSS none\n");
+    std::fprintf(g_report, "note: no device_height_m (session.yaml or --height): geometry fixes need >= 2 LEDs, RSS none\n");
 
   const StripeDecoder decoder(*camera, *map);
   std::unique_ptr<TextFile> out;
   if (!a.out.empty()) {
     out = std::make_unique<TextFile>(a.out);
-    out->write("t,led_id,u,v,freq_hz,confidence,rows,reason\n");
+    if (out->is_stdout()) g_report = stderr;
+    out->write("t,led_id,u,v,freq_hz,confidence,rows,border,reason\n");
   }
   Viewer viewer(a.view);
   if (frames->live()) {
     g_live.store(frames.get());
     std::signal(SIGINT, on_vlc_stop_signal);
     std::signal(SIGTERM, on_vlc_stop_signal);
-    std::printf("reading %s: Ctrl-C to stop\n", frames->name().c_str());
-    std::fflush(stdout);
+    std::fprintf(g_report, "reading %s: Ctrl-C to stop\n", frames->name().c_str());
+    std::fflush(g_report);
   }
 
   long n_frames = 0, n_with_leds = 0, n_blobs = 0, n_accepted = 0;
@@ -386,8 +390,9 @@ int run_vlc(const VlcArgs& a) {
         rejected[o.reject_reason]++;
       }
       if (out) {
-        std::snprintf(line, sizeof line, "%.6f,%d,%.2f,%.2f,%.1f,%.3f,%.1f,%s\n", t, o.accepted() ? o.led_id : -1,
-                      o.uv.x(), o.uv.y(), o.freq_hz, o.confidence, o.row_span, o.reject_reason.c_str());
+        std::snprintf(line, sizeof line, "%.6f,%d,%.2f,%.2f,%.1f,%.3f,%.1f,%d,%s\n", t, o.accepted() ? o.led_id : -1,
+                      o.uv.x(), o.uv.y(), o.freq_hz, o.confidence, o.row_span, o.touches_border ? 1 : 0,
+                      o.reject_reason.c_str());
         out->write(line);
       }
     }
@@ -453,7 +458,7 @@ int run_vlc(const VlcArgs& a) {
               const RssCalibration c = calibrate_rss_constant(rss_training);
               rss_calibrated = true;
               if (c.valid) rss_options.C = c.C;
-              std::printf("rss: channel constant C = %.4g from %d blobs of the first %.0f s against the truth (rms log "
+              std::fprintf(g_report, "rss: channel constant C = %.4g from %d blobs of the first %.0f s against the truth (rms log "
                           "power %.3f, range %.3f m)%s\n",
                           c.C, c.samples, a.rss_calibrate_s, c.rms_log_residual, c.rms_range_error_m,
                           c.valid ? "" : ": not valid, C solved per frame");
@@ -481,50 +486,50 @@ int run_vlc(const VlcArgs& a) {
   if (out) out->flush();
 
   // ---- the report ----
-  std::printf("frames %ld, frames with LEDs %ld (%.1f %%), blobs %ld, decoded %ld, rejected %ld\n", n_frames,
+  std::fprintf(g_report, "frames %ld, frames with LEDs %ld (%.1f %%), blobs %ld, decoded %ld, rejected %ld\n", n_frames,
               n_with_leds, n_frames ? 100.0 * n_with_leds / n_frames : 0.0, n_blobs, n_accepted, n_blobs - n_accepted);
   if (n_frames > 0)
-    std::printf("decode time: %.2f ms per frame (mean, one thread, incl. every blob)\n",
+    std::fprintf(g_report, "decode time: %.2f ms per frame (mean, one thread, incl. every blob)\n",
                 1e3 * decode_seconds / static_cast<double>(n_frames));
   // Every LED of the map, seen or not; "needs rows": the blob height below which the
   // decoder refuses it (min_periods stripe periods of its frequency): a room-design check.
-  std::printf("decoded per LED (map order):\n  %6s %8s %10s %10s %9s %7s %8s %10s\n", "id", "decodes", "map Hz",
+  std::fprintf(g_report, "decoded per LED (map order):\n  %6s %8s %10s %10s %9s %7s %8s %10s\n", "id", "decodes", "map Hz",
               "mean Hz", "sd Hz", "sd %", "period", "needs rows");
   for (const Led& led : map->leds()) {
     const auto it = per_id.find(led.id);
     const Running r = it == per_id.end() ? Running{} : it->second;
     const double period = 1.0 / (led.freq_hz * camera->row_time_s);
     if (r.n > 0)
-      std::printf("  %6d %8ld %10.1f %10.1f %9.1f %7.2f %8.1f %10.0f\n", led.id, r.n, led.freq_hz, r.mean, r.sd(),
+      std::fprintf(g_report, "  %6d %8ld %10.1f %10.1f %9.1f %7.2f %8.1f %10.0f\n", led.id, r.n, led.freq_hz, r.mean, r.sd(),
                   r.mean > 0 ? 100.0 * r.sd() / r.mean : 0.0, period, std::ceil(decoder.options().min_periods * period));
     else
-      std::printf("  %6d %8d %10.1f %10s %9s %7s %8.1f %10.0f\n", led.id, 0, led.freq_hz, "-", "-", "-", period,
+      std::fprintf(g_report, "  %6d %8d %10.1f %10s %9s %7s %8.1f %10.0f\n", led.id, 0, led.freq_hz, "-", "-", "-", period,
                   std::ceil(decoder.options().min_periods * period));
   }
   if (!rejected.empty()) {
-    std::printf("rejected blobs by reason:\n");
-    for (const auto& [why, n] : rejected) std::printf("  %-22s %ld\n", why.c_str(), n);
+    std::fprintf(g_report, "rejected blobs by reason:\n");
+    for (const auto& [why, n] : rejected) std::fprintf(g_report, "  %-22s %ld\n", why.c_str(), n);
   }
   if (want_geometry || want_rss) {
-    std::printf("single-frame positions (%s attitude%s):\n",
+    std::fprintf(g_report, "single-frame positions (%s attitude%s):\n",
                 a.truth_attitude ? "true" : frames->live() ? "level (no IMU)" : "IMU (Mahony)",
                 have_truth ? "; horizontal error against groundtruth.csv" : "");
     if (want_geometry) print_errors("geometry", geo, have_truth);
     if (want_rss) print_errors("rss", rss, have_truth);
   }
   if (a.check_ids) {
-    std::printf("id check (renderer truth from groundtruth.csv, camera, map):\n");
-    std::printf("  blobs fully inside & >= 20 rows %ld: right %ld (%.2f %%), missed %ld\n", ids.qualifying, ids.right,
+    std::fprintf(g_report, "id check (renderer truth from groundtruth.csv, camera, map):\n");
+    std::fprintf(g_report, "  blobs fully inside & >= 20 rows %ld: right %ld (%.2f %%), missed %ld\n", ids.qualifying, ids.right,
                 100.0 * ids.right_fraction(), ids.missed);
-    for (const auto& [why, n] : ids.missed_by) std::printf("    missed: %-20s %ld\n", why.c_str(), n);
-    for (const auto& [id, n] : ids.missed_by_id) std::printf("    missed: LED %-16d %ld\n", id, n);
-    std::printf("  decodes %ld: wrong %ld (%.3f %% of all decodes)\n", ids.decodes, ids.wrong, 100.0 * ids.wrong_fraction());
-    std::printf("  dark frames %ld: LEDs decoded in them %ld\n", ids.dark_frames, ids.dark_frame_decodes);
+    for (const auto& [why, n] : ids.missed_by) std::fprintf(g_report, "    missed: %-20s %ld\n", why.c_str(), n);
+    for (const auto& [id, n] : ids.missed_by_id) std::fprintf(g_report, "    missed: LED %-16d %ld\n", id, n);
+    std::fprintf(g_report, "  decodes %ld: wrong %ld (%.3f %% of all decodes)\n", ids.decodes, ids.wrong, 100.0 * ids.wrong_fraction());
+    std::fprintf(g_report, "  dark frames %ld: LEDs decoded in them %ld\n", ids.dark_frames, ids.dark_frame_decodes);
   }
   for (const auto& [reason, e] : frames->drops().snapshot())
-    std::printf("frames skipped (%s): %llu; first: %s\n", reason.c_str(), static_cast<unsigned long long>(e.count),
+    std::fprintf(g_report, "frames skipped (%s): %llu; first: %s\n", reason.c_str(), static_cast<unsigned long long>(e.count),
                 e.first_message.c_str());
-  std::fflush(stdout);
+  std::fflush(g_report);
   if (const std::string why = frames->failure(); !why.empty()) {
     std::fprintf(stderr, "luxloc: %s\n", why.c_str());
     return 1;
@@ -542,7 +547,7 @@ void add_vlc_command(CLI::App& root, Action& action) {
   cmd->add_option("--source", args->source, "live camera instead: v4l2:/dev/videoN[,width=..,exposure_us=..]");
   cmd->add_option("--map", args->map_path, "LED map (default: the session's ledmap.yaml)");
   cmd->add_option("--camera", args->camera_path, "camera file (default: the session's camera.yaml)");
-  cmd->add_option("--out", args->out, "CSV, one row per blob: t,led_id,u,v,freq_hz,confidence,rows,reason (- = stdout)");
+  cmd->add_option("--out", args->out, "CSV, one row per blob: t,led_id,u,v,freq_hz,confidence,rows,border,reason (- = stdout; the report then goes to stderr)");
   cmd->add_flag("--view", args->view, "show the frames with the blobs, ids and positions (needs a display)");
   cmd->add_option("--position", args->position, "single-frame positions: geometry (bearing), rss, both, none")
       ->check(CLI::IsMember({"geometry", "rss", "both", "none"}))

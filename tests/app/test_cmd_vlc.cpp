@@ -64,6 +64,8 @@ TEST_CASE("luxloc vlc: report, per-blob CSV, id check and positions on a simulat
   CsvReader rows(csv.string());
   const int ct = rows.require_column("t"), cid = rows.require_column("led_id"), cu = rows.require_column("u"),
             cv = rows.require_column("v"), cf = rows.require_column("freq_hz"), cc = rows.require_column("confidence");
+  CHECK(rows.require_column("border") >= 0);
+  CHECK(rows.require_column("reason") >= 0);
   long n = 0, decoded = 0;
   double last_t = -1;
   while (rows.next_row()) {
@@ -106,6 +108,10 @@ TEST_CASE("luxloc vlc: true attitude, no ground truth, bad usage", "[vlc][app]")
   r = test::run_luxloc("vlc --playback '" + bare.string() + "' --check-ids");
   CHECK(r.exit_code == 2);
   CHECK_THAT(r.output, Catch::Contains("groundtruth.csv"));
+  // The CSV on stdout, the report on stderr (dropped here; `| cat` keeps the harness's 2>&1 off it).
+  r = test::run_luxloc("vlc --playback '" + bare.string() + "' --duration 1 --out - 2>/dev/null | cat");
+  CHECK(r.output.rfind("t,led_id,u,v,freq_hz,confidence,rows,border,reason\n", 0) == 0);
+  CHECK_THAT(r.output, !Catch::Contains("frames 30"));
   r = test::run_luxloc("vlc --playback '" + bare.string() + "' --duration 1");
   CHECK(r.exit_code == 0);
   CHECK_THAT(r.output, Catch::Contains("frames 30"));
