@@ -8,8 +8,9 @@
 // BlobSegmenter) -> one region per LED; per region: sub-pixel row-chord edges -> ellipse
 // fit (ChordEllipse: the envelope centre, valid at any camera roll and for blobs cut by the
 // border; soft blobs fall back to the intensity centroid), per-row mean over the central
-// chord -> stripe profile (log for soft blobs) -> period (estimate_stripe_period) -> map
-// match with tolerance and ambiguity margin. It rejects rather than guesses: too narrow,
+// chord -> stripe profile (log for soft blobs) -> period (estimate_stripe_period; for sharp
+// blobs under min_periods stripe periods, estimate_period_from_edges) -> map match with
+// tolerance and ambiguity margin. It rejects rather than guesses: too narrow,
 // overlapping blobs, too few rows or stripe periods, no stripes, ambiguous frequency, no
 // map match. Single threaded (no internal parallelism); buffers are reused per thread.
 //
