@@ -49,6 +49,8 @@ int main(int argc, char** argv) {
   luxloc::app::add_bench_command(root, action);
   luxloc::app::add_compare_command(root, action);
   luxloc::app::add_record_command(root, action);
+  luxloc::app::add_devices_command(root, action);
+  luxloc::app::add_vlc_command(root, action);
   try {
     root.name("luxloc");
     std::vector<std::string> args = hoist_config(argc, argv);

@@ -88,6 +88,27 @@ Scenario square() {
   return s;
 }
 
+// The walk under a higher ceiling (3.6 m: 2.6 m above the device) with a denser grid
+// (1.5 m, centred in the room) of larger discs (0.40 m, ~70 px across): the camera sees a
+// 3.6 m x 2.7 m patch of the ceiling, so 1-4 whole LEDs (up to 6 near the middle of the
+// room) are in view at once, where the walk shows one: enough for the RSS fix (>= 3) and
+// the multi-LED decoder check. The disc size follows the room-design rule of docs/VLC.md:
+// the lowest frequency's stripe period (1000 Hz: 33 rows at 30 us) fits twice into a blob.
+// Same LED ids and frequencies as every other scenario.
+Scenario dense() {
+  Scenario s = walk();
+  s.name = "dense";
+  s.description = "the walk under a 3.6 m ceiling, 0.40 m LEDs 1.5 m apart: 1-4 whole LEDs in view at once";
+  std::vector<Led> leds = s.map.leds();
+  for (std::size_t i = 0; i < leds.size(); ++i) {
+    // The 4 x 3 grid, 1.5 m apart, centred in the room: x = 1.75 .. 6.25, y = 1.5 .. 4.5.
+    leds[i].p_inW = {1.75 + 1.5 * static_cast<double>(i % 4), 1.5 + 1.5 * static_cast<double>(i / 4), 3.6};
+    leds[i].diameter_m = 0.40;
+  }
+  s.map = LedMap(std::move(leds), "sim:dense_led_grid");
+  return s;
+}
+
 Scenario still() {
   Scenario s = base("static", "standing still at (3, 2) facing 0.5 rad, LEDs 2 and 6 in view", 30.0);
   s.trajectory = std::make_shared<StaticTrajectory>(Eigen::Vector3d(3.0, 2.0, s.device_height_m), 0.5);
@@ -96,12 +117,13 @@ Scenario still() {
 
 }  // namespace
 
-std::vector<std::string> scenario_names() { return {"walk", "static", "square"}; }
+std::vector<std::string> scenario_names() { return {"walk", "static", "square", "dense"}; }
 
 Scenario make_scenario(const std::string& name) {
   if (name == "walk") return walk();
   if (name == "static") return still();
   if (name == "square") return square();
+  if (name == "dense") return dense();
   std::string valid;
   for (const std::string& n : scenario_names()) valid += (valid.empty() ? "" : ", ") + n;
   throw std::invalid_argument("unknown scenario '" + name + "' (valid: " + valid + ")");

@@ -22,7 +22,7 @@ struct Scenario {
   std::shared_ptr<const Trajectory> trajectory;
 };
 
-// "walk" (the default), "static", "square".
+// "walk" (the default), "static", "square", "dense".
 std::vector<std::string> scenario_names();
 // Throws std::invalid_argument naming the valid scenarios for an unknown name.
 Scenario make_scenario(const std::string& name);

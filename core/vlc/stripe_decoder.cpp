@@ -142,6 +142,11 @@ StripeDecoder::StripeDecoder(const CameraModel& camera, const LedMap& map, Strip
   int k = options_.closing_rows;
   if (k <= 0) k = static_cast<int>(std::ceil(max_dark / (f_lo * rt) + 2.0)) + 1;
   closing_rows_ = std::clamp(k, 3, std::max(3, camera_.height / 3)) | 1;
+  if (!map_.empty()) {
+    common_duty_ = map_.leds().front().duty;
+    for (const Led& l : map_.leds())
+      if (std::abs(l.duty - common_duty_) > 1e-6) common_duty_ = 0.0;
+  }
   rel_tolerance_ = options_.rel_tolerance;
   if (map_.size() >= 2) rel_tolerance_ = std::min(rel_tolerance_, 0.45 * map_.min_relative_separation());
 }
@@ -454,6 +459,20 @@ std::vector<LedObservation> StripeDecoder::decode(const cv::Mat& input) const {
       obs.radius_px = std::sqrt(blob.bright_pixels / std::numbers::pi / std::max(obs.on_fraction, 0.1));
     }
 
+    // Short blobs: the stripe edges rather than the periodogram (see min_edge_periods).
+    bool by_edges = false;
+    if (est.valid && trusted && common_duty_ > 0 && o.min_edge_periods > 0 &&
+        est.span_rows * est.cycles_per_row < o.min_periods) {
+      const EdgePeriodEstimate ep =
+          estimate_period_from_edges(S.value, S.weight, common_duty_, min_period_rows_, max_period_rows_);
+      if (ep.valid && est.span_rows >= o.min_edge_periods * ep.period_rows) {
+        by_edges = true;
+        obs.period_rows = ep.period_rows;
+        obs.period_sigma_rows = ep.period_sigma_rows;
+        obs.freq_hz = 1.0 / (ep.period_rows * camera_.row_time_s);
+      }
+    }
+
     // --- decisions: reject rather than guess ---
     const double tol = rel_tolerance_;
     if (c1 - c0 + 1 < o.min_blob_width_px) {
@@ -464,15 +483,15 @@ std::vector<LedObservation> StripeDecoder::decode(const cv::Mat& input) const {
       obs.reject_reason = "too few rows";
     } else if (!est.valid || est.explained < o.min_explained) {
       obs.reject_reason = "no stripes";
-    } else if (est.span_rows * est.cycles_per_row < o.min_periods) {
+    } else if (!by_edges && est.span_rows * est.cycles_per_row < o.min_periods) {
       obs.reject_reason = "too few rows";
-    } else if (est.peak_to_sidelobe < o.min_peak_to_sidelobe) {
+    } else if (!by_edges && est.peak_to_sidelobe < o.min_peak_to_sidelobe) {
       obs.reject_reason = "ambiguous frequency";
-    } else if (map_.empty() || est.at_range_edge) {  // at the edge: the true peak lies outside the map's range
+    } else if (map_.empty() || (!by_edges && est.at_range_edge)) {  // at the edge: the true peak lies outside the map's range
       obs.reject_reason = "no map match";
     } else {
       const LedMap::FrequencyMatch mt = map_.match_frequency(obs.freq_hz, tol);
-      const double sigma_rel = est.period_sigma_rows / est.period_rows;
+      const double sigma_rel = obs.period_sigma_rows / obs.period_rows;
       if (mt.index < 0) {
         obs.reject_reason = "no map match";
       } else if (mt.runner_up < o.ambiguity_ratio * mt.rel_error ||
@@ -492,7 +511,7 @@ std::vector<LedObservation> StripeDecoder::decode(const cv::Mat& input) const {
         // there is the always-on level times the duty; the blob's chord-weighted mean over
         // that level is its on-fraction (different from the duty by the partial period).
         const double duty = map_.leds()[static_cast<std::size_t>(mt.index)].duty;
-        const double whole = whole_period_mean(S.raw, S.weight, est.period_rows);
+        const double whole = whole_period_mean(S.raw, S.weight, obs.period_rows);
         if (whole > 0 && chord_sum > 0)
           obs.on_fraction = std::clamp(duty * (on_num / chord_sum) / whole, 1e-3, 1.0);
       }

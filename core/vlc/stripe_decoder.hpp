@@ -8,8 +8,9 @@
 // BlobSegmenter) -> one region per LED; per region: sub-pixel row-chord edges -> ellipse
 // fit (ChordEllipse: the envelope centre, valid at any camera roll and for blobs cut by the
 // border; soft blobs fall back to the intensity centroid), per-row mean over the central
-// chord -> stripe profile (log for soft blobs) -> period (estimate_stripe_period) -> map
-// match with tolerance and ambiguity margin. It rejects rather than guesses: too narrow,
+// chord -> stripe profile (log for soft blobs) -> period (estimate_stripe_period; for sharp
+// blobs under min_periods stripe periods, estimate_period_from_edges) -> map match with
+// tolerance and ambiguity margin. It rejects rather than guesses: too narrow,
 // overlapping blobs, too few rows or stripe periods, no stripes, ambiguous frequency, no
 // map match. Single threaded (no internal parallelism); buffers are reused per thread.
 //
@@ -52,6 +53,10 @@ struct StripeDecoderOptions {
   // Fewer stripe periods across the blob: "too few rows". At 1.5, rendered frames let a
   // 2nd / 3rd harmonic through now and then (~0.2 % of decodes); at 1.75 none in ~11000.
   double min_periods = 1.75;
+  // Blobs with fewer periods than min_periods (but at least this many, by the edge
+  // estimate) are measured by their stripe edges instead (estimate_period_from_edges);
+  // sharp blobs only, and only when all LEDs of the map share one duty. 0 = off.
+  double min_edge_periods = 1.0;
   double min_explained = 0.3;           // periodic share of the profile variance: below = "no stripes"
   double min_peak_to_sidelobe = 1.5;    // below: "ambiguous frequency"
   StripePeriodOptions period{};
@@ -83,6 +88,7 @@ class StripeDecoder {
   int closing_rows_ = 3;
   double min_period_rows_ = 2.0, max_period_rows_ = 100.0;
   double rel_tolerance_ = 0.05;
+  double common_duty_ = 0.0;  // the map's duty when all LEDs share it, else 0
 };
 
 }  // namespace luxloc

@@ -262,4 +262,87 @@ StripePeriodEstimate estimate_stripe_period(std::span<const double> profile, std
   return est;
 }
 
+EdgePeriodEstimate estimate_period_from_edges(std::span<const double> y, std::span<const double> w, double duty,
+                                              double min_period, double max_period, double end_margin_rows,
+                                              double edge_sigma_rows) {
+  EdgePeriodEstimate out;
+  const int n = static_cast<int>(y.size());
+  const auto ok = [&](int i) { return i >= 0 && i < n && (w.empty() || w[static_cast<std::size_t>(i)] > 0); };
+  int a = 0, b = n - 1;
+  while (a <= b && !ok(a)) ++a;
+  while (b >= a && !ok(b)) --b;
+  if (b - a < 4 || !(duty > 0.05 && duty < 0.95)) return out;
+  double lo = 1e300, hi = -1e300;
+  for (int i = a; i <= b; ++i)
+    if (ok(i)) {
+      lo = std::min(lo, y[static_cast<std::size_t>(i)]);
+      hi = std::max(hi, y[static_cast<std::size_t>(i)]);
+    }
+  if (!(hi > lo)) return out;
+  const auto x = [&](int i) { return (y[static_cast<std::size_t>(i)] - lo) / (hi - lo); };
+  struct Edge {
+    double pos;
+    bool rising;
+  };
+  std::vector<Edge> edges;
+  int state = 0, last_state_row = a;  // -1 low, +1 high
+  for (int i = a; i <= b; ++i) {
+    if (!ok(i)) {
+      state = 0;  // a gap: no edge across it
+      continue;
+    }
+    const double v = x(i);
+    const int s = v > 0.65 ? 1 : v < 0.35 ? -1 : 0;
+    if (s == 0) continue;
+    if (state != 0 && s != state) {
+      // The 50 % crossing between the last row of the old state and this one.
+      for (int k = last_state_row; k < i; ++k) {
+        if (!ok(k) || !ok(k + 1)) continue;
+        const double x0 = x(k), x1 = x(k + 1);
+        if ((x0 - 0.5) * (x1 - 0.5) <= 0 && x0 != x1) {
+          edges.push_back({k + (0.5 - x0) / (x1 - x0), s > 0});
+          break;
+        }
+      }
+    }
+    state = s;
+    last_state_row = i;
+  }
+  std::vector<Edge> inner;
+  for (const Edge& e : edges)
+    if (e.pos >= a + end_margin_rows && e.pos <= b - end_margin_rows) inner.push_back(e);
+  out.edges = static_cast<int>(inner.size());
+  if (inner.size() < 2) return out;
+  double period = 0;
+  if (inner.size() == 2) {
+    const double s = inner[1].pos - inner[0].pos;
+    period = inner[0].rising ? s / duty : s / (1.0 - duty);  // rising then falling: a bright stripe
+    out.period_sigma_rows = std::sqrt(2.0) * edge_sigma_rows / (inner[0].rising ? duty : 1.0 - duty);
+  } else {
+    double sum = 0;
+    int cnt = 0;
+    for (std::size_t i = 0; i + 2 < inner.size(); ++i) {
+      sum += inner[i + 2].pos - inner[i].pos;
+      ++cnt;
+    }
+    period = sum / cnt;
+    for (std::size_t i = 0; i + 2 < inner.size(); ++i)
+      if (std::abs(inner[i + 2].pos - inner[i].pos - period) > 0.1 * period) return out;
+    out.period_sigma_rows = std::sqrt(2.0) * edge_sigma_rows / std::sqrt(static_cast<double>(cnt));
+  }
+  if (!(period >= min_period && period <= max_period)) return out;
+  // Self-consistency: the stripes before the first and after the last edge must end where
+  // the period says; an edge predicted well inside the profile but not found means the
+  // edges were not the stripes' (noise, the rim, a merged blob).
+  const double lo_end = a + end_margin_rows + 0.1 * period, hi_end = b - end_margin_rows - 0.1 * period;
+  const Edge& first = inner.front();
+  const Edge& last = inner.back();
+  const double before = first.rising ? (1.0 - duty) * period : duty * period;  // stripe before a rising edge is dark
+  const double after = last.rising ? duty * period : (1.0 - duty) * period;    // after a rising edge: bright
+  if (first.pos - before > lo_end || last.pos + after < hi_end) return out;
+  out.period_rows = period;
+  out.valid = true;
+  return out;
+}
+
 }  // namespace luxloc

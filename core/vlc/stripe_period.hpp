@@ -48,4 +48,25 @@ inline StripePeriodEstimate estimate_stripe_period(const std::vector<double>& ro
                                 max_period, options);
 }
 
+// Period from the stripe edges, for blobs too short for the periodogram (fewer than ~2
+// periods: there the square wave's harmonics bias a sinusoid fit). A rolling-shutter
+// stripe is the LED's square wave box-filtered by the exposure, so its half-level crossings
+// keep the square wave's spacing: same-polarity edges are one period apart, a bright stripe
+// is duty x period wide and a dark one (1 - duty) x period. Edges are found with
+// hysteresis (35 % / 65 % of the profile's range) and placed at the 50 % crossing with
+// sub-row interpolation; edges within `end_margin_rows` of the profile's ends (the disc's
+// own blurred rim) are not used. Needs two interior edges (one whole stripe); with three or
+// more, the same-polarity spacings must agree within 10 %; and the stripes before the first
+// and after the last edge must not outlast their width (an edge predicted well inside the
+// profile must have been found).
+struct EdgePeriodEstimate {
+  bool valid = false;
+  double period_rows = 0.0;
+  double period_sigma_rows = 0.0;  // from an edge position error of edge_sigma_rows
+  int edges = 0;
+};
+EdgePeriodEstimate estimate_period_from_edges(std::span<const double> profile, std::span<const double> weights,
+                                              double duty, double min_period, double max_period,
+                                              double end_margin_rows = 3.0, double edge_sigma_rows = 0.25);
+
 }  // namespace luxloc
