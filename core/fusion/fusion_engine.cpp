@@ -16,13 +16,15 @@ struct Overloaded : Ts... {
 }  // namespace
 
 FusionEngine::FusionEngine(const FusionOptions& options, const std::optional<LedMap>& map,
-                           const std::optional<CameraModel>& camera, const SessionConfig& session)
+                           const std::optional<CameraModel>& camera, const SessionConfig& session,
+                           const UwbOptions& uwb)
     : options_(options), ahrs_(options.ahrs) {
   device_height_m_ = std::isfinite(options.device_height_m) ? options.device_height_m
                      : std::isfinite(session.device_height_m) ? session.device_height_m
                                                               : 1.0;
   filter_ = make_planar_filter(FilterSettings{options.filter, options.pf});
   pf_ = dynamic_cast<ParticleFilter*>(filter_.get());
+  uwb_ = std::make_unique<UwbFrontend>(uwb, UwbAnchorTable(session.anchors), device_height_m_);
   if (map && camera && !map->empty()) {
     vlc_ = std::make_unique<VlcFrontend>(*camera, *map, options_, device_height_m_);
     double z = 0.0;
@@ -42,6 +44,10 @@ void FusionEngine::process(const Sample& sample, std::vector<PoseEstimate>& out)
                  },
                  [&](const FixSample& s) {
                    if (options_.use_fixes) on_fix(s, out);
+                 },
+                 [&](const UwbSample& s) {
+                   if (uwb_->options().enabled) on_uwb(s, out);
+                   else ++stats_.other_samples;
                  },
                  [&](const auto&) { ++stats_.other_samples; },
              },
@@ -189,8 +195,72 @@ void FusionEngine::apply_position(const PositionMeasurement& m) {
   if (r.reinitialized && was_initialized) ++stats_.reinitializations;
 }
 
+void FusionEngine::on_uwb(const UwbSample& s, std::vector<PoseEstimate>& out) {
+  const std::optional<UwbRangeLikelihood> lik = uwb_->likelihood(s);
+  if (!lik) return;
+  std::optional<PositionMeasurement> fix = uwb_->fix(s);
+  UwbStats& st = uwb_->stats();
+  if (uwb_->options().fixes_only) {  // UWB alone: the fix is the pose
+    if (!fix || !fix->z.allFinite()) return;
+    PoseEstimate p;
+    p.t = s.t;
+    p.p_BinW = {fix->z.x(), fix->z.y(), device_height_m_};
+    if (ahrs_.initialized()) p.yaw = ahrs_.yaw();
+    p.sigma_x = std::sqrt(fix->R(0, 0));
+    p.sigma_y = std::sqrt(fix->R(1, 1));
+    p.mode = "uwb";
+    out.push_back(std::move(p));
+    ++stats_.poses;
+    return;
+  }
+  if (have_imu_) predict_to(std::max(s.t, t_filter_));
+  const bool tight = pf_ && options_.tight_coupling;
+  if (!tight || !filter_->initialized()) {
+    // Loose coupling (seed B.3 fix, Gaussian weighting as in seed A, S302), the EKF, and
+    // the first fix of a tight run.
+    if (fix) {
+      apply_position(*fix);
+      if (!have_imu_) emit(s.t, out, true);
+    }
+    return;
+  }
+  // Tight: weigh every particle by this measurement's likelihood (robust NLOS tail).
+  // Gate at the mean only to notice a lost track, never to refuse an update: the robust
+  // likelihood already discounts outliers.
+  const PlanarEstimate e = pf_->estimate();
+  const UwbNoiseModel& nm = uwb_->options().noise;
+  const double spread = std::sqrt(std::max(0.0, e.cov_p.trace()));
+  const double range_tol = uwb_->options().gate_sigma * std::hypot(nm.range_sigma_m, spread);
+  const double bearing_tol = uwb_->options().gate_sigma * nm.aoa_sigma_rad +
+                             std::max(0.3, spread) / std::max(0.5, lik->horizontal_distance(e.p.x(), e.p.y()));
+  const bool agrees = std::abs(lik->range_residual(e.p.x(), e.p.y())) <= range_tol &&
+                      std::abs(lik->bearing_residual(e.p.x(), e.p.y())) <= bearing_tol;
+  if (!agrees) {
+    ++st.disagreements;
+    if (++uwb_disagreements_ >= uwb_->options().max_consecutive_disagreements && fix) {
+      pf_->initialize(fix->z, fix->R * 4.0);
+      ++st.reinitializations;
+      ++stats_.reinitializations;
+      uwb_disagreements_ = 0;
+      t_last_fix_ = s.t;
+      return;
+    }
+  } else {
+    uwb_disagreements_ = 0;
+  }
+  if (pf_->weigh(*lik) && pf_->normalize_and_resample()) {
+    ++st.weighed;
+    ++stats_.fixes_accepted;
+    t_last_fix_ = s.t;
+  } else if (fix) {  // every particle underflowed: recover at the fix
+    pf_->initialize(fix->z, fix->R * 4.0);
+    ++st.reinitializations;
+    ++stats_.reinitializations;
+  }
+}
+
 void FusionEngine::emit(TimeNs t, std::vector<PoseEstimate>& out, bool force) {
-  if (!filter_->initialized()) return;
+  if (!filter_->initialized() || uwb_->options().fixes_only) return;
   if (!force && emitted_ && options_.output_rate_hz > 0 &&
       ns_to_seconds(t - t_last_emit_) < 1.0 / options_.output_rate_hz - 1e-6)
     return;

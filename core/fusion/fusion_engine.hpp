@@ -12,20 +12,24 @@
 #include "core/fusion/fusion_stats.hpp"
 #include "core/fusion/vlc_frontend.hpp"
 #include "core/pipeline/fusion_stage.hpp"
+#include "core/uwb/uwb_frontend.hpp"
 
 namespace luxloc {
 
 class FusionEngine final : public FusionStage {
  public:
   // `map` and `camera` may be absent (then frames are counted and ignored).
+  // UWB anchors come from session.anchors (and from the samples that carry positions).
   FusionEngine(const FusionOptions& options, const std::optional<LedMap>& map,
-               const std::optional<CameraModel>& camera, const SessionConfig& session = {});
+               const std::optional<CameraModel>& camera, const SessionConfig& session = {},
+               const UwbOptions& uwb = {});
   ~FusionEngine() override;
 
   void process(const Sample& sample, std::vector<PoseEstimate>& out) override;
   void finish(std::vector<PoseEstimate>& out) override;
 
   const FusionStats& stats() const { return stats_; }
+  const UwbStats& uwb_stats() const { return uwb_->stats(); }
   const PlanarFilter& filter() const { return *filter_; }
   const MahonyFilter& attitude() const { return ahrs_; }
   double device_height_m() const { return device_height_m_; }
@@ -34,6 +38,7 @@ class FusionEngine final : public FusionStage {
   void on_imu(const ImuSample& s, std::vector<PoseEstimate>& out);
   void on_frame(const FrameSample& s, std::vector<PoseEstimate>& out);
   void on_fix(const FixSample& s, std::vector<PoseEstimate>& out);
+  void on_uwb(const UwbSample& s, std::vector<PoseEstimate>& out);
   void apply_frame(const DecodedFrame& f);
   void apply_position(const PositionMeasurement& m);
   void predict_to(TimeNs t);
@@ -61,6 +66,8 @@ class FusionEngine final : public FusionStage {
   bool emitted_ = false;
   int last_leds_ = 0;
   TimeNs t_last_fix_ = 0;
+  std::unique_ptr<UwbFrontend> uwb_;
+  int uwb_disagreements_ = 0;
 };
 
 }  // namespace luxloc
