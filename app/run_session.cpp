@@ -113,6 +113,25 @@ void add_run_options(CLI::App* sub, RunConfig& cfg) {
       ->capture_default_str();
   sub->add_flag("--no-accelerometer", [&cfg](std::int64_t) { cfg.fusion.use_accelerometer = false; },
                 "constant-velocity prediction (ignore the accelerometer)");
+  sub->add_option("--uwb-likelihood", cfg.uwb_likelihood,
+                  "UWB weighting: robust (Gaussian core + one-sided NLOS tail) | gaussian (plain)")
+      ->check(CLI::IsMember({"robust", "gaussian"}))
+      ->capture_default_str();
+  sub->add_option("--uwb-range-sigma", cfg.uwb.noise.range_sigma_m, "UWB line-of-sight range noise, m (1 sigma)")
+      ->check(CLI::Range(0.001, 10.0))
+      ->capture_default_str();
+  sub->add_option("--uwb-aoa-sigma", cfg.uwb.noise.aoa_sigma_rad, "UWB angle-of-arrival noise, rad (1 sigma)")
+      ->check(CLI::Range(0.0001, 3.0))
+      ->capture_default_str();
+  sub->add_option("--uwb-nlos-prob", cfg.uwb.noise.nlos_probability, "prior probability of a NLOS UWB measurement")
+      ->check(CLI::Range(0.0, 0.5))
+      ->capture_default_str();
+  sub->add_option("--uwb-nlos-bias", cfg.uwb.noise.nlos_bias_mean_m, "mean positive range bias of a NLOS measurement, m")
+      ->check(CLI::Range(0.01, 20.0))
+      ->capture_default_str();
+  sub->add_flag("--uwb-alone", cfg.uwb.fixes_only,
+                "output the raw UWB position fixes (TOF+AOA or multilateration), no filter: the UWB-alone baseline");
+  sub->add_flag("--no-uwb", [&cfg](std::int64_t) { cfg.uwb.enabled = false; }, "ignore UWB samples");
   sub->add_flag("-q,--quiet", cfg.quiet, "no report on stderr");
 }
 
@@ -124,6 +143,7 @@ RunOutcome run_session(const RunConfig& cfg, std::ostream& log) {
   RunConfig c = cfg;
   c.fusion.pf.scheme = parse_resampling_scheme(cfg.resampling);
   c.fusion.tight_coupling = cfg.coupling == "tight";
+  c.uwb.noise.likelihood = cfg.uwb_likelihood == "gaussian" ? UwbLikelihood::gaussian : UwbLikelihood::robust;
 
   // Sources.
   std::vector<std::string> playback_dirs;
@@ -182,7 +202,7 @@ RunOutcome run_session(const RunConfig& cfg, std::ostream& log) {
   if (!out.empty()) sinks.push_back(make_pose_file_sink(out, parse_pose_format(c.format)));
   for (const auto& u : c.udp) sinks.push_back(std::make_unique<UdpPoseSink>(u));
 
-  FusionEngine engine(c.fusion, session.map, session.camera, session.config);
+  FusionEngine engine(c.fusion, session.map, session.camera, session.config, c.uwb);
   Pipeline pipeline(std::move(session.sources), std::move(sinks), pipe_opt);
   RunOutcome outcome;
   {
@@ -190,6 +210,7 @@ RunOutcome run_session(const RunConfig& cfg, std::ostream& log) {
     outcome.pipeline = pipeline.run(engine);
   }
   outcome.fusion = engine.stats();
+  outcome.uwb = engine.uwb_stats();
   outcome.groundtruth = session.groundtruth;
   for (const auto& s : outcome.pipeline.sources)
     if (!s.failure.empty()) outcome.failures += s.name + ": " + s.failure + "\n";
@@ -219,6 +240,15 @@ void print_report(const RunOutcome& r, std::ostream& log) {
   if (f.frames_without_attitude) log << ", " << f.frames_without_attitude << " frames before the IMU aligned";
   if (f.other_samples) log << ", " << f.other_samples << " samples of kinds this filter does not use";
   log << "\n";
+  const UwbStats& u = r.uwb;
+  if (u.samples) {
+    log << "  uwb: " << u.samples << " measurements, " << u.weighed << " weighed, " << u.fixes << " position fixes, "
+        << u.disagreements << " far from the filter, " << u.reinitializations << " re-initialisations";
+    if (u.unknown_anchor) log << ", " << u.unknown_anchor << " from unknown anchors (not in session.yaml)";
+    if (u.rejected) log << ", " << u.rejected << " unusable";
+    if (u.learnt_anchors) log << ", " << u.learnt_anchors << " anchor positions taken from the device";
+    log << "\n";
+  }
   if (p.poses_dropped) log << "  outputs: " << p.poses_dropped << " poses dropped (output too slow)\n";
   log.unsetf(std::ios::floatfield);
 }

@@ -18,6 +18,8 @@ struct RunConfig {
   std::string playback;              // --playback DIR (= --source playback:DIR)
   std::string map, camera;           // overrides of the session's files
   FusionOptions fusion;
+  UwbOptions uwb;
+  std::string uwb_likelihood = "robust";  // robust | gaussian
   std::string resampling = "systematic";
   std::string coupling = "tight";    // tight | loose
   std::string out;                   // pose file; "-" = stdout; empty and no --udp: stdout
@@ -32,6 +34,7 @@ struct RunConfig {
 struct RunOutcome {
   PipelineReport pipeline;
   FusionStats fusion;
+  UwbStats uwb;
   std::optional<std::filesystem::path> groundtruth;  // of the played-back session
   std::string failures;  // sources that ended through a failure
 };

@@ -94,14 +94,34 @@ Scenario still() {
   return s;
 }
 
+// SEEDS.md B's setting: one UWB base station measuring time of flight and angle of
+// arrival, 5 % non-line-of-sight outliers, a 120 s walk; no camera frames.
+Scenario uwb() {
+  Scenario s = base("uwb",
+                    "a 120 s walk around one ceiling UWB base station at (4, 3, 2.8) giving TOF range + AOA at 10 Hz, "
+                    "5 % NLOS outliers; no camera",
+                    120.0);
+  s.frames = false;
+  s.anchors = {UwbAnchor{1, Eigen::Vector3d(4.0, 3.0, 2.8)}};
+  WalkOptions w;
+  w.waypoints = {{1, 1}, {7, 1}, {7, 5}, {5, 5}, {5, 4}, {3, 4}, {3, 5}, {1, 5}};
+  w.corner_sigma_m = 0.5;
+  w.start_u_m = 2.0;  // (3, 1), heading east
+  w.height_m = s.device_height_m;
+  w.walking = {{2.0, 41.0}, {43.0, 81.0}, {83.0, kInf}};
+  s.trajectory = std::make_shared<WalkTrajectory>(w);
+  return s;
+}
+
 }  // namespace
 
-std::vector<std::string> scenario_names() { return {"walk", "static", "square"}; }
+std::vector<std::string> scenario_names() { return {"walk", "static", "square", "uwb"}; }
 
 Scenario make_scenario(const std::string& name) {
   if (name == "walk") return walk();
   if (name == "static") return still();
   if (name == "square") return square();
+  if (name == "uwb") return uwb();
   std::string valid;
   for (const std::string& n : scenario_names()) valid += (valid.empty() ? "" : ", ") + n;
   throw std::invalid_argument("unknown scenario '" + name + "' (valid: " + valid + ")");

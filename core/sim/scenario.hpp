@@ -5,7 +5,9 @@
 #include <string>
 #include <vector>
 
+#include "core/common/session_config.hpp"
 #include "core/sim/trajectory.hpp"
+#include "core/sim/uwb_synth.hpp"
 #include "core/vlc/camera_model.hpp"
 #include "core/vlc/led_map.hpp"
 
@@ -20,9 +22,12 @@ struct Scenario {
   LedMap map;
   CameraModel camera;
   std::shared_ptr<const Trajectory> trajectory;
+  bool frames = true;               // false: the session has no camera frames (UWB, IMU, truth)
+  std::vector<UwbAnchor> anchors;   // UWB anchors: non-empty -> uwb.csv and session.yaml anchors
+  UwbSimOptions uwb;
 };
 
-// "walk" (the default), "static", "square".
+// "walk" (the default), "static", "square", "uwb".
 std::vector<std::string> scenario_names();
 // Throws std::invalid_argument naming the valid scenarios for an unknown name.
 Scenario make_scenario(const std::string& name);

@@ -69,6 +69,31 @@ void write_session_yaml(const Simulator& sim, const fs::path& p) {
   cv::FileStorage fs(p.string(), cv::FileStorage::WRITE | cv::FileStorage::FORMAT_YAML);
   if (!fs.isOpened()) throw std::runtime_error("cannot write " + p.string());
   fs << "device_height_m" << sim.scenario().device_height_m;
+  if (!sim.scenario().anchors.empty()) {
+    fs << "anchors" << "[";
+    for (const UwbAnchor& a : sim.scenario().anchors)
+      fs << "{:" << "id" << a.id << "x" << a.p_inW.x() << "y" << a.p_inW.y() << "z" << a.p_inW.z() << "}";
+    fs << "]";
+  }
+}
+
+// uwb.csv (SPEC.md) plus the truth the filter must not see: nlos (0/1) and true_range_m
+// (extra columns, ignored by playback).
+std::size_t write_uwb(const Simulator& sim, const fs::path& p) {
+  const std::vector<SimUwbMeasurement> ms = sim.uwb_measurements();
+  File f = open_out(p);
+  const bool aoa = sim.scenario().uwb.with_aoa;
+  std::fputs(aoa ? "t,anchor,range_m,aoa_rad,nlos,true_range_m\n" : "t,anchor,range_m,nlos,true_range_m\n", f.get());
+  for (const SimUwbMeasurement& m : ms) {
+    if (aoa)
+      std::fprintf(f.get(), "%.6f,%d,%.4f,%.5f,%d,%.4f\n", ns_to_seconds(m.sample.t), m.sample.anchor,
+                   m.sample.range_m, m.sample.aoa_rad, m.nlos ? 1 : 0, m.true_range_m);
+    else
+      std::fprintf(f.get(), "%.6f,%d,%.4f,%d,%.4f\n", ns_to_seconds(m.sample.t), m.sample.anchor, m.sample.range_m,
+                   m.nlos ? 1 : 0, m.true_range_m);
+  }
+  close_checked(std::move(f), p);
+  return ms.size();
 }
 
 // What the simulator drew: handy to check calibrations and filters against.
@@ -165,7 +190,13 @@ SessionSummary write_session(const Simulator& sim, const fs::path& dir, const Se
   write_session_yaml(sim, dir / "session.yaml");
   write_sim_truth(sim, dir / "sim_truth.yaml");
   s.files = 7;
-  if (options.write_frames) {
+  if (!sim.scenario().anchors.empty()) {
+    s.uwb_rows = write_uwb(sim, dir / "uwb.csv");
+    s.files += 1;
+  } else {  // no stale uwb.csv from an earlier run may remain
+    fs::remove(dir / "uwb.csv", ec);
+  }
+  if (options.write_frames && sim.scenario().frames) {
     s.frames = write_frames(sim, dir, options, s.frame_bytes);
     s.files += 1 + s.frames;
   } else {  // an IMU-only session: no stale frames from an earlier run may remain
@@ -173,7 +204,7 @@ SessionSummary write_session(const Simulator& sim, const fs::path& dir, const Se
     fs::remove(dir / "frames.csv", ec);
   }
   for (const char* name : {"imu.csv", "groundtruth.csv", "steps.csv", "ledmap.yaml", "camera.yaml", "session.yaml",
-                           "sim_truth.yaml", "frames.csv"})
+                           "sim_truth.yaml", "frames.csv", "uwb.csv"})
     if (fs::exists(dir / name)) s.bytes += fs::file_size(dir / name);
   s.bytes += s.frame_bytes;
   return s;

@@ -55,4 +55,8 @@ RenderedFrame Simulator::render(std::size_t k) const {
   return render_frame(scenario_.camera, scenario_.map, pose_at, t0, ro, rng, phases_s_);
 }
 
+std::vector<SimUwbMeasurement> Simulator::uwb_measurements() const {
+  return synthesize_uwb(*scenario_.trajectory, scenario_.anchors, scenario_.uwb, duration_s_, opt_.seed);
+}
+
 }  // namespace luxloc::sim

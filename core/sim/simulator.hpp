@@ -55,6 +55,9 @@ class Simulator {
   bool lights_on(double t_s) const;
   RenderedFrame render(std::size_t k) const;
 
+  // The scenario's UWB measurements (empty without anchors), in time order.
+  std::vector<SimUwbMeasurement> uwb_measurements() const;
+
  private:
   Scenario scenario_;
   SimOptions opt_;
