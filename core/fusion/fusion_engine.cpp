@@ -213,7 +213,8 @@ void FusionEngine::on_uwb(const UwbSample& s, std::vector<PoseEstimate>& out) {
     ++stats_.poses;
     return;
   }
-  if (have_imu_) predict_to(std::max(s.t, t_filter_));
+  // Without an IMU (a UWB-only live run) the prediction is constant velocity.
+  predict_to(std::max(s.t, t_filter_));
   const bool tight = pf_ && options_.tight_coupling;
   if (!tight || !filter_->initialized()) {
     // Loose coupling (seed B.3 fix, Gaussian weighting as in seed A, S302), the EKF, and
@@ -257,6 +258,7 @@ void FusionEngine::on_uwb(const UwbSample& s, std::vector<PoseEstimate>& out) {
     ++st.reinitializations;
     ++stats_.reinitializations;
   }
+  if (!have_imu_) emit(s.t, out, true);
 }
 
 void FusionEngine::emit(TimeNs t, std::vector<PoseEstimate>& out, bool force) {

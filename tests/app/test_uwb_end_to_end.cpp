@@ -57,6 +57,21 @@ TEST_CASE("luxloc sim --scenario uwb -> run --playback: UWB + IMU within 0.15 m,
   CHECK(raw.n == 1200);
   CHECK(fused.rmse_m < raw.rmse_m);
 
+  // UWB without an IMU: the particle filter predicts at constant velocity, still a track.
+  const auto uwb_only = dir / "uwb_only";
+  std::filesystem::create_directories(uwb_only);
+  std::filesystem::copy_file(session / "uwb.csv", uwb_only / "uwb.csv");
+  std::filesystem::copy_file(session / "session.yaml", uwb_only / "session.yaml");
+  const auto only_poses = dir / "uwb_only.csv";
+  const auto r1 = run_luxloc("run --playback '" + uwb_only.string() + "' --out '" + only_poses.string() + "'");
+  INFO(r1.output);
+  REQUIRE(r1.exit_code == 0);
+  const EvalResult only = evaluate(truth, read_pose_file(only_poses.string()));
+  WARN("uwb e2e: UWB-only particle filter (no IMU) " << only.rmse_m << " m over " << only.n << " poses");
+  CHECK(only.n >= 1190);
+  CHECK(only.rmse_m < 0.5 * raw.rmse_m);  // the robust likelihood, not the IMU, removes the NLOS outliers
+  CHECK(only.rmse_m < 0.2);
+
   // Without anchors the UWB samples are counted as unusable, not silently fused.
   const auto no_anchor = dir / "no_anchor";
   std::filesystem::create_directories(no_anchor);
