@@ -131,6 +131,16 @@ void add_run_options(CLI::App* sub, RunConfig& cfg) {
       ->capture_default_str();
   sub->add_flag("--uwb-alone", cfg.uwb.fixes_only,
                 "output the raw UWB position fixes (TOF+AOA or multilateration), no filter: the UWB-alone baseline");
+  sub->add_flag("--vo", cfg.vo.enabled,
+                "visual odometry from a downward camera over the floor (frames + camera.yaml): velocity updates");
+  sub->add_option("--vo-sigma", cfg.vo.velocity_sigma_mps, "visual-odometry velocity noise, m/s (1 sigma)")
+      ->check(CLI::Range(0.001, 10.0))
+      ->capture_default_str();
+  sub->add_option("--vo-heading-tau", cfg.vo.heading_tau_s,
+                  "VO heading: visual yaw increments from the start yaw, pulled to the attitude yaw with this "
+                  "time constant, s (0: never pulled)")
+      ->check(CLI::Range(0.0, 1e6))
+      ->capture_default_str();
   sub->add_flag("--no-uwb", [&cfg](std::int64_t) { cfg.uwb.enabled = false; }, "ignore UWB samples");
   sub->add_flag("-q,--quiet", cfg.quiet, "no report on stderr");
 }
@@ -202,7 +212,7 @@ RunOutcome run_session(const RunConfig& cfg, std::ostream& log) {
   if (!out.empty()) sinks.push_back(make_pose_file_sink(out, parse_pose_format(c.format)));
   for (const auto& u : c.udp) sinks.push_back(std::make_unique<UdpPoseSink>(u));
 
-  FusionEngine engine(c.fusion, session.map, session.camera, session.config, c.uwb);
+  FusionEngine engine(c.fusion, session.map, session.camera, session.config, c.uwb, c.vo);
   Pipeline pipeline(std::move(session.sources), std::move(sinks), pipe_opt);
   RunOutcome outcome;
   {
@@ -211,6 +221,7 @@ RunOutcome run_session(const RunConfig& cfg, std::ostream& log) {
   }
   outcome.fusion = engine.stats();
   outcome.uwb = engine.uwb_stats();
+  outcome.vo = engine.vo_stats();
   outcome.groundtruth = session.groundtruth;
   for (const auto& s : outcome.pipeline.sources)
     if (!s.failure.empty()) outcome.failures += s.name + ": " + s.failure + "\n";
@@ -249,6 +260,9 @@ void print_report(const RunOutcome& r, std::ostream& log) {
     if (u.learnt_anchors) log << ", " << u.learnt_anchors << " anchor positions taken from the device";
     log << "\n";
   }
+  if (r.vo.frames)
+    log << "  vo: " << r.vo.frames << " frames, " << r.vo.motions << " motions fitted, " << r.vo.accepted
+        << " velocity updates used, " << r.vo.rejected << " refused\n";
   if (p.poses_dropped) log << "  outputs: " << p.poses_dropped << " poses dropped (output too slow)\n";
   log.unsetf(std::ios::floatfield);
 }

@@ -19,6 +19,7 @@ struct RunConfig {
   std::string map, camera;           // overrides of the session's files
   FusionOptions fusion;
   UwbOptions uwb;
+  VoOptions vo;
   std::string uwb_likelihood = "robust";  // robust | gaussian
   std::string resampling = "systematic";
   std::string coupling = "tight";    // tight | loose
@@ -35,6 +36,7 @@ struct RunOutcome {
   PipelineReport pipeline;
   FusionStats fusion;
   UwbStats uwb;
+  VoStats vo;
   std::optional<std::filesystem::path> groundtruth;  // of the played-back session
   std::string failures;  // sources that ended through a failure
 };

@@ -17,14 +17,16 @@ struct Overloaded : Ts... {
 
 FusionEngine::FusionEngine(const FusionOptions& options, const std::optional<LedMap>& map,
                            const std::optional<CameraModel>& camera, const SessionConfig& session,
-                           const UwbOptions& uwb)
-    : options_(options), ahrs_(options.ahrs) {
+                           const UwbOptions& uwb, const VoOptions& vo)
+    : options_(options), ahrs_(options.ahrs), vo_options_(vo) {
   device_height_m_ = std::isfinite(options.device_height_m) ? options.device_height_m
                      : std::isfinite(session.device_height_m) ? session.device_height_m
                                                               : 1.0;
   filter_ = make_planar_filter(FilterSettings{options.filter, options.pf});
   pf_ = dynamic_cast<ParticleFilter*>(filter_.get());
   uwb_ = std::make_unique<UwbFrontend>(uwb, UwbAnchorTable(session.anchors), device_height_m_);
+  if (vo.enabled && camera)
+    vo_ = std::make_unique<FloorOdometry>(*camera, device_height_m_ + camera->p_CinB.z(), vo.odometry);
   if (map && camera && !map->empty()) {
     vlc_ = std::make_unique<VlcFrontend>(*camera, *map, options_, device_height_m_);
     double z = 0.0;
@@ -40,6 +42,7 @@ void FusionEngine::process(const Sample& sample, std::vector<PoseEstimate>& out)
   std::visit(Overloaded{
                  [&](const ImuSample& s) { on_imu(s, out); },
                  [&](const FrameSample& s) {
+                   if (vo_) on_vo_frame(s);
                    if (options_.use_vlc) on_frame(s, out);
                  },
                  [&](const FixSample& s) {
@@ -259,6 +262,41 @@ void FusionEngine::on_uwb(const UwbSample& s, std::vector<PoseEstimate>& out) {
     ++stats_.reinitializations;
   }
   if (!have_imu_) emit(s.t, out, true);
+}
+
+void FusionEngine::on_vo_frame(const FrameSample& s) {
+  ++vo_stats_.frames;
+  const std::optional<FloorMotion> m = vo_->process(s.gray, s.t);
+  if (!m || !(m->dt_s > 0.0)) return;
+  ++vo_stats_.motions;
+  if (!ahrs_.initialized() || !filter_->initialized() || std::abs(m->scale - 1.0) > vo_options_.max_scale_error) {
+    ++vo_stats_.rejected;
+    return;
+  }
+  // Heading: visual yaw increments, slowly pulled to the attitude filter's yaw.
+  const double yaw_ahrs = ahrs_.yaw();
+  if (!vo_heading_valid_) {
+    vo_heading_ = yaw_ahrs - m->dyaw_rad;  // heading before this interval
+    vo_heading_valid_ = true;
+  }
+  vo_heading_ += m->dyaw_rad;
+  if (vo_options_.heading_tau_s > 0.0) {
+    const double a = std::min(1.0, m->dt_s / vo_options_.heading_tau_s);
+    vo_heading_ += a * std::remainder(yaw_ahrs - vo_heading_, 2.0 * 3.14159265358979323846);
+  }
+  // The body moved d_inB over the frame interval: into the world with the yaw at its middle.
+  const double yaw = vo_heading_ - 0.5 * m->dyaw_rad;
+  const Eigen::Vector2d d_inW(std::cos(yaw) * m->d_inB.x() - std::sin(yaw) * m->d_inB.y(),
+                              std::sin(yaw) * m->d_inB.x() + std::cos(yaw) * m->d_inB.y());
+  VelocityMeasurement v;
+  v.t = s.t;
+  v.v = d_inW / m->dt_s;
+  v.R = Eigen::Matrix2d::Identity() * vo_options_.velocity_sigma_mps * vo_options_.velocity_sigma_mps;
+  predict_to(std::max(s.t, t_filter_));
+  if (filter_->correct_velocity(v).accepted)
+    ++vo_stats_.accepted;
+  else
+    ++vo_stats_.rejected;
 }
 
 void FusionEngine::emit(TimeNs t, std::vector<PoseEstimate>& out, bool force) {

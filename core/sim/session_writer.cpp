@@ -185,7 +185,15 @@ SessionSummary write_session(const Simulator& sim, const fs::path& dir, const Se
   s.imu_samples = sim.imu_count();
   s.truth_rows = write_truth(sim, dir / "groundtruth.csv");
   s.steps = write_steps(sim, dir / "steps.csv");
-  sim.scenario().map.save((dir / "ledmap.yaml").string());
+  if (!sim.scenario().map.empty()) sim.scenario().map.save((dir / "ledmap.yaml").string());
+  else fs::remove(dir / "ledmap.yaml", ec);  // no stale map from an earlier run
+  if (!sim.scenario().start_fix) fs::remove(dir / "fixes.csv", ec);
+  if (sim.scenario().start_fix) {  // relative navigation starts from a known point
+    const BodyState s0 = sim.truth(0.0);
+    File f = open_out(dir / "fixes.csv");
+    std::fprintf(f.get(), "t,x,y,sigma_m\n%.6f,%.6f,%.6f,0.02\n", 0.0, s0.p_BinW.x(), s0.p_BinW.y());
+    close_checked(std::move(f), dir / "fixes.csv");
+  }
   sim.scenario().camera.save((dir / "camera.yaml").string());
   write_session_yaml(sim, dir / "session.yaml");
   write_sim_truth(sim, dir / "sim_truth.yaml");

@@ -7,6 +7,9 @@
 #include <vector>
 
 #include "core/common/samples.hpp"
+#include <memory>
+
+#include "core/sim/floor_renderer.hpp"
 #include "core/sim/frame_renderer.hpp"
 #include "core/sim/imu_synth.hpp"
 #include "core/sim/scenario.hpp"
@@ -64,6 +67,7 @@ class Simulator {
   double duration_s_ = 0.0;
   ImuBiases biases_;
   std::vector<double> phases_s_;
+  std::shared_ptr<const FloorRenderer> floor_;  // floor_camera scenarios
 };
 
 }  // namespace luxloc::sim
