@@ -182,7 +182,7 @@ RunOutcome run_session(const RunConfig& cfg, std::ostream& log) {
   }
   const bool any_live = !live.empty();
   for (auto& s : live) session.sources.push_back(std::move(s));
-  if (!session.map) log << "luxloc: note: no LED map: camera frames will be ignored\n";
+  if (!session.map && !c.vo.enabled) log << "luxloc: note: no LED map: camera frames will be ignored\n";
   if (!session.camera) log << "luxloc: note: no camera file: camera frames will be ignored\n";
 
   PipelineOptions pipe_opt;
