@@ -35,8 +35,8 @@ std::vector<std::string> scenario_names();
 Scenario make_scenario(const std::string& name);
 
 // The scenarios' shared pieces, for tests and other tools.
-CameraModel default_sim_camera();
-CameraModel floor_sim_camera();  // 320x240, f 230 px, no distortion, looking down, image top = forward  // 640x480, f 460 px, k1 -0.05, 30 us rows, 100 us exposure, looking up
+CameraModel default_sim_camera();  // 640x480, f 460 px, k1 -0.05, 30 us rows, 100 us exposure, looking up
+CameraModel floor_sim_camera();    // 320x240, f 230 px, no distortion, looking down, image top = forward
 // 4 x 3 grid, x = 1,3,5,7, y = 1,3,5, z = 3 m, 0.20 m discs, 1000 + 300 i Hz (ids 1..12).
 LedMap default_led_grid();
 
