@@ -205,7 +205,7 @@ TEST_CASE("calib camera: OpenCV's sample photographs (left*.jpg, 9x6) agree with
   CHECK(same.rms_px == Approx(rms).epsilon(1e-9));
 }
 
-TEST_CASE("luxloc calib camera: a folder of board images -> camera.yaml that run takes; bad input exits 2", "[calib]") {
+TEST_CASE("luxloc calib camera: a folder of board images -> camera.yaml that run takes, bad input exits 2", "[calib]") {
   const TrueCamera cam;
   std::mt19937_64 rng(9);
   const auto dir = test::scratch_dir("calib_camera");

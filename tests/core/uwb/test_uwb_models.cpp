@@ -93,7 +93,7 @@ TEST_CASE("Multilateration: Gauss-Newton from 4 anchors, robust to one NLOS rang
   CHECK_FALSE(multilaterate({{{0, 0, 2}, 3.0}, {{2, 0, 2}, 2.0}, {{4, 0, 2}, 2.5}}, 1.0));
 }
 
-TEST_CASE("UWB particle likelihood peaks at the device; frontend groups ranges and learns anchors", "[uwb]") {
+TEST_CASE("UWB particle likelihood peaks at the device, the frontend groups ranges and learns anchors", "[uwb]") {
   const Eigen::Vector3d anchor(4.0, 3.0, 2.8);
   const Eigen::Vector3d device(2.0, 1.5, 1.0);
   const double d = (device - anchor).norm();
