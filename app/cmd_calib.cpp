@@ -2,16 +2,21 @@
 // kind, each registered by its own add_calib_<kind>() below:
 //   imu     gyro bias from a static segment, accelerometer bias and scale from six static
 //           orientations (SEEDS.md C.4) -> the YAML that `imu` and `run` take with --imu-calib.
+//   camera  chessboard images -> Zhang calibration with bad-view rejection -> camera.yaml
+//           (SPEC.md "Camera file"), rolling-shutter row time as entered.
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <algorithm>
 #include <memory>
+#include <opencv2/imgcodecs.hpp>
 #include <numbers>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "app/commands.hpp"
+#include "calib/camera_calibrator.hpp"
 #include "calib/imu_calibrator.hpp"
 #include "core/common/input_error.hpp"
 #include "plugins/playback/imu_csv_source.hpp"
@@ -100,12 +105,125 @@ void add_calib_imu(CLI::App& calib, Action& action) {
   cmd->callback([&action, args] { action = [args] { return run_calib_imu(*args); }; });
 }
 
+// ---- calib camera ----------------------------------------------------------------------
+
+struct CalibCameraArgs {
+  std::string images;
+  std::string board = "9x6";
+  double square_m = 0.025;
+  std::string out;
+  double row_time_us = 0.0;
+  double exposure_us = 0.0;
+  bool free_k3 = false;
+  double reject_factor = calib::CameraCalibOptions{}.reject_factor;
+};
+
+cv::Size parse_board(const std::string& text) {
+  const std::size_t x = text.find_first_of("xX");
+  try {
+    if (x == std::string::npos) throw std::invalid_argument("no x");
+    std::size_t ua = 0, ub = 0;
+    const int w = std::stoi(text.substr(0, x), &ua), h = std::stoi(text.substr(x + 1), &ub);
+    if (ua != x || ub != text.size() - x - 1 || w < 2 || h < 2 || w > 100 || h > 100) throw std::invalid_argument("range");
+    return {w, h};
+  } catch (const std::exception&) {
+    throw InputError("--board", 0, "--board", "'" + text + "': expected COLSxROWS inner corners, e.g. 9x6");
+  }
+}
+
+int run_calib_camera(const CalibCameraArgs& a) {
+  calib::CameraCalibOptions o;
+  o.board = parse_board(a.board);
+  o.square_m = a.square_m;
+  o.free_k3 = a.free_k3;
+  o.reject_factor = a.reject_factor;
+  std::vector<fs::path> files;
+  for (const fs::directory_entry& e : fs::directory_iterator(a.images)) {
+    std::string ext = e.path().extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    if (e.is_regular_file() && (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp" || ext == ".tif" ||
+                                ext == ".tiff" || ext == ".pgm" || ext == ".ppm"))
+      files.push_back(e.path());
+  }
+  std::sort(files.begin(), files.end());
+  if (files.empty()) throw InputError(a.images, 0, "--images", "no image files (png, jpg, bmp, tif, pgm) in the folder");
+  std::vector<cv::Mat> images;
+  std::vector<std::string> names;
+  for (const fs::path& f : files) {
+    cv::Mat g = cv::imread(f.string(), cv::IMREAD_GRAYSCALE);
+    if (g.empty()) std::fprintf(stderr, "luxloc: %s: not a readable image, skipped\n", f.string().c_str());
+    images.push_back(g);
+    names.push_back(f.filename().string());
+  }
+  calib::CameraCalibResult r;
+  try {
+    r = calib::calibrate_camera(images, names, o);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(a.images, 0, "--images", e.what());
+  }
+  // Not entered: CameraModel's defaults stay (30 us rows, 100 us exposure), with a note.
+  if (a.row_time_us > 0.0) r.camera.row_time_s = a.row_time_us * 1e-6;
+  if (a.exposure_us > 0.0) r.camera.exposure_s = a.exposure_us * 1e-6;
+  r.camera.save(a.out);
+
+  const CameraModel& c = r.camera;
+  std::printf("calib camera: board %dx%d, %.4f m squares, %zu images, %zu boards found, %zu used, %d rounds\n",
+              o.board.width, o.board.height, o.square_m, images.size(),
+              static_cast<std::size_t>(std::count_if(r.views.begin(), r.views.end(),
+                                                     [](const calib::CalibView& v) { return v.found; })),
+              r.used(), r.rounds);
+  std::printf("  image %dx%d  fx %.3f fy %.3f cx %.3f cy %.3f px\n", c.width, c.height, c.fx, c.fy, c.cx, c.cy);
+  std::printf("  distortion k1 %+.5f k2 %+.5f p1 %+.6f p2 %+.6f k3 %+.5f\n", c.dist[0], c.dist[1], c.dist[2], c.dist[3],
+              c.dist[4]);
+  std::printf("  RMS reprojection error %.3f px (used views)\n", r.rms_px);
+  for (const calib::CalibView& v : r.views) {
+    if (!v.found)
+      std::printf("    %-24s no board\n", v.name.c_str());
+    else
+      std::printf("    %-24s %.3f px%s\n", v.name.c_str(), v.rms_px, v.used ? "" : "  REJECTED");
+  }
+  if (a.row_time_us <= 0.0)
+    std::printf("  note: --row-time-us not given: row_time_us %.1f written (a placeholder: measure it for VLC)\n",
+                r.camera.row_time_s * 1e6);
+  std::printf("  -> %s\n", a.out.c_str());
+  std::fflush(stdout);
+  return 0;
+}
+
+void add_calib_camera(CLI::App& calib, Action& action) {
+  auto args = std::make_shared<CalibCameraArgs>();
+  CLI::App* cmd = calib.add_subcommand(
+      "camera", "camera calibration from chessboard images (Zhang, OpenCV) -> camera.yaml");
+  cmd->add_option("--images", args->images, "folder of chessboard images (png, jpg, ...), read in name order")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  cmd->add_option("--board", args->board, "inner corners COLSxROWS")->capture_default_str();
+  cmd->add_option("--square", args->square_m, "square side, m")->check(CLI::PositiveNumber)->capture_default_str();
+  cmd->add_option("--out", args->out, "camera.yaml to write (SPEC.md camera file)")->required();
+  cmd->add_option("--row-time-us", args->row_time_us, "rolling-shutter line readout time, us (measured or from the "
+                                                      "sensor data sheet; ~1e6 / (fps * total lines)); default 30")
+      ->check(CLI::Range(0.0, 1000.0))
+      ->capture_default_str();
+  cmd->add_option("--exposure-us", args->exposure_us, "exposure time the VLC frames use, us; default 100")
+      ->check(CLI::Range(0.0, 1e6))
+      ->capture_default_str();
+  cmd->add_flag("--k3", args->free_k3, "estimate k3 too (default: fixed at 0, as OpenCV's calibration sample)");
+  cmd->add_option("--reject-factor", args->reject_factor,
+                  "drop views whose reprojection error exceeds this many times the median, then recalibrate")
+      ->check(CLI::Range(1.0, 100.0))
+      ->capture_default_str();
+  cmd->footer("Prints the per-image reprojection error; rejected views are marked. Exit 2 when fewer than 5 boards "
+              "are found. The mounting (R_body_camera, t_body_camera) is written as identity / zero: edit it.");
+  cmd->callback([&action, args] { action = [args] { return run_calib_camera(*args); }; });
+}
+
 }  // namespace
 
 void add_calib_command(CLI::App& root, Action& action) {
-  CLI::App* calib = root.add_subcommand("calib", "calibration tools: imu, ledmap");
+  CLI::App* calib = root.add_subcommand("calib", "calibration tools: imu, camera, ledmap");
   calib->require_subcommand(1);
   add_calib_imu(*calib, action);
+  add_calib_camera(*calib, action);
   add_calib_ledmap(*calib, action);
 }
 

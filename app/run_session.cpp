@@ -137,6 +137,35 @@ void add_run_options(CLI::App* sub, RunConfig& cfg) {
   sub->add_option("--record", cfg.record,
                   "also record every input sample into this new session folder (replay with --playback)")
       ->type_name("DIR");
+  sub->add_option("--uwb-likelihood", cfg.uwb_likelihood,
+                  "UWB weighting: robust (Gaussian core + one-sided NLOS tail) | gaussian (plain)")
+      ->check(CLI::IsMember({"robust", "gaussian"}))
+      ->capture_default_str();
+  sub->add_option("--uwb-range-sigma", cfg.uwb.noise.range_sigma_m, "UWB line-of-sight range noise, m (1 sigma)")
+      ->check(CLI::Range(0.001, 10.0))
+      ->capture_default_str();
+  sub->add_option("--uwb-aoa-sigma", cfg.uwb.noise.aoa_sigma_rad, "UWB angle-of-arrival noise, rad (1 sigma)")
+      ->check(CLI::Range(0.0001, 3.0))
+      ->capture_default_str();
+  sub->add_option("--uwb-nlos-prob", cfg.uwb.noise.nlos_probability, "prior probability of a NLOS UWB measurement")
+      ->check(CLI::Range(0.0, 0.5))
+      ->capture_default_str();
+  sub->add_option("--uwb-nlos-bias", cfg.uwb.noise.nlos_bias_mean_m, "mean positive range bias of a NLOS measurement, m")
+      ->check(CLI::Range(0.01, 20.0))
+      ->capture_default_str();
+  sub->add_flag("--uwb-alone", cfg.uwb.fixes_only,
+                "output the raw UWB position fixes (TOF+AOA or multilateration), no filter: the UWB-alone baseline");
+  sub->add_flag("--vo", cfg.vo.enabled,
+                "visual odometry from a downward camera over the floor (frames + camera.yaml): velocity updates");
+  sub->add_option("--vo-sigma", cfg.vo.velocity_sigma_mps, "visual-odometry velocity noise, m/s (1 sigma)")
+      ->check(CLI::Range(0.001, 10.0))
+      ->capture_default_str();
+  sub->add_option("--vo-heading-tau", cfg.vo.heading_tau_s,
+                  "VO heading: visual yaw increments from the start yaw, pulled to the attitude yaw with this "
+                  "time constant, s (0: never pulled)")
+      ->check(CLI::Range(0.0, 1e6))
+      ->capture_default_str();
+  sub->add_flag("--no-uwb", [&cfg](std::int64_t) { cfg.uwb.enabled = false; }, "ignore UWB samples");
   sub->add_flag("-q,--quiet", cfg.quiet, "no report on stderr");
 }
 
@@ -264,12 +293,13 @@ RunOutcome run_session(const RunConfig& cfg, std::ostream& log) {
   RunConfig c = cfg;
   c.fusion.pf.scheme = parse_resampling_scheme(cfg.resampling);
   c.fusion.tight_coupling = cfg.coupling == "tight";
+  c.uwb.noise.likelihood = cfg.uwb_likelihood == "gaussian" ? UwbLikelihood::gaussian : UwbLikelihood::robust;
   c.fusion.motion.model = parse_motion_model(cfg.motion);
   if (!cfg.imu_calib.empty()) c.fusion.imu_calibration = load_imu_calibration(cfg.imu_calib);
 
   OpenedSources opened = open_run_sources(c);
   PlaybackSession& session = opened.session;
-  if (!session.map) log << "luxloc: note: no LED map: camera frames will be ignored\n";
+  if (!session.map && !c.vo.enabled) log << "luxloc: note: no LED map: camera frames will be ignored\n";
   if (c.fusion.pf.injection.enabled && c.fusion.pf.injection.region.isEmpty()) {
     // Injected particles are drawn where the device can be: under the lights, 1 m around.
     if (!session.map || session.map->empty())
@@ -286,7 +316,7 @@ RunOutcome run_session(const RunConfig& cfg, std::ostream& log) {
   if (!out.empty()) sinks.push_back(make_pose_file_sink(out, parse_pose_format(c.format)));
   for (const auto& u : c.udp) sinks.push_back(std::make_unique<UdpPoseSink>(u));
 
-  FusionEngine engine(c.fusion, session.map, session.camera, session.config);
+  FusionEngine engine(c.fusion, session.map, session.camera, session.config, c.uwb, c.vo);
   std::unique_ptr<SessionRecorder> recorder;
   if (!c.record.empty())
     recorder = std::make_unique<SessionRecorder>(c.record, session.map, session.camera, session.config);
@@ -302,6 +332,8 @@ RunOutcome run_session(const RunConfig& cfg, std::ostream& log) {
     outcome.pipeline = run_with_stop_signals(pipeline, engine);
   }
   outcome.fusion = engine.stats();
+  outcome.uwb = engine.uwb_stats();
+  outcome.vo = engine.vo_stats();
   outcome.groundtruth = session.groundtruth;
   for (const auto& s : outcome.pipeline.sources)
     if (!s.failure.empty()) outcome.failures += s.name + ": " + s.failure + "\n";
@@ -341,6 +373,18 @@ void print_report(const RunOutcome& r, std::ostream& log) {
           << " deg";
     log << std::setprecision(2) << "\n";
   }
+  const UwbStats& u = r.uwb;
+  if (u.samples) {
+    log << "  uwb: " << u.samples << " measurements, " << u.weighed << " weighed, " << u.fixes << " position fixes, "
+        << u.disagreements << " far from the filter, " << u.reinitializations << " re-initialisations";
+    if (u.unknown_anchor) log << ", " << u.unknown_anchor << " from unknown anchors (not in session.yaml)";
+    if (u.rejected) log << ", " << u.rejected << " unusable";
+    if (u.learnt_anchors) log << ", " << u.learnt_anchors << " anchor positions taken from the device";
+    log << "\n";
+  }
+  if (r.vo.frames)
+    log << "  vo: " << r.vo.frames << " frames, " << r.vo.motions << " motions fitted, " << r.vo.accepted
+        << " velocity updates used, " << r.vo.rejected << " refused\n";
   if (p.poses_dropped) log << "  outputs: " << p.poses_dropped << " poses dropped (output too slow)\n";
   log.unsetf(std::ios::floatfield);
 }

@@ -20,6 +20,9 @@ struct RunConfig {
   std::string playback;              // --playback DIR (= --source playback:DIR)
   std::string map, camera;           // overrides of the session's files
   FusionOptions fusion;
+  UwbOptions uwb;
+  VoOptions vo;
+  std::string uwb_likelihood = "robust";  // robust | gaussian
   std::string resampling = "systematic";
   std::string coupling = "tight";    // tight | loose
   std::string motion = "pdr";        // pdr | strapdown | cv (docs/MOTION.md)
@@ -37,6 +40,8 @@ struct RunConfig {
 struct RunOutcome {
   PipelineReport pipeline;
   FusionStats fusion;
+  UwbStats uwb;
+  VoStats vo;
   std::optional<std::filesystem::path> groundtruth;  // of the played-back session
   std::string failures;  // sources that ended through a failure
 };

@@ -7,15 +7,17 @@
 #include "plugins/external/external_plugin.hpp"
 #include "plugins/serial/serial_imu_source.hpp"
 #include "plugins/sim/sim_source.hpp"
+#include "plugins/uwb/uwb_serial_source.hpp"
 #include "plugins/v4l2/v4l2_camera_source.hpp"
 
 namespace luxloc {
 
-std::vector<std::string> live_source_kinds() { return {"serial-imu", "v4l2", "sim"}; }
+std::vector<std::string> live_source_kinds() { return {"serial-imu", "v4l2", "uwb", "sim"}; }
 
 SourcePtr make_live_source(const SourceSpec& spec) {
   if (spec.kind == "serial-imu") return make_serial_imu_source(spec);
   if (spec.kind == "v4l2") return make_v4l2_camera_source(spec);
+  if (spec.kind == "uwb") return make_uwb_serial_source(spec);
   if (spec.kind == "sim") return std::make_unique<SimSource>(SimSourceOptions::from_spec(spec));
   if (SourcePtr external = make_external_source(spec)) return external;
   std::string kinds = "playback";

@@ -30,6 +30,9 @@ struct UwbSample {
   int anchor = -1;
   double range_m = 0.0;  // measured 3-D distance anchor -> device
   double aoa_rad = std::numeric_limits<double>::quiet_NaN();  // world bearing of device from anchor
+  // Anchor position as reported by the device itself (DWM1001 `lec` lines), NaN when the
+  // source does not know it (then session.yaml's anchors apply).
+  Eigen::Vector3d p_AinW = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
 };
 
 struct FixSample {

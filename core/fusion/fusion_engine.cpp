@@ -35,13 +35,17 @@ EkfOptions ekf_options(const ParticleFilterOptions& pf) {
 }  // namespace
 
 FusionEngine::FusionEngine(const FusionOptions& options, const std::optional<LedMap>& map,
-                           const std::optional<CameraModel>& camera, const SessionConfig& session)
-    : options_(options), ahrs_(options.ahrs), motion_(effective_motion(options)) {
+                           const std::optional<CameraModel>& camera, const SessionConfig& session,
+                           const UwbOptions& uwb, const VoOptions& vo)
+    : options_(options), ahrs_(options.ahrs), motion_(effective_motion(options)), vo_options_(vo) {
   device_height_m_ = std::isfinite(options.device_height_m) ? options.device_height_m
                      : std::isfinite(session.device_height_m) ? session.device_height_m
                                                               : 1.0;
   filter_ = make_planar_filter(FilterSettings{options.filter, options.pf, ekf_options(options.pf)});
   pf_ = dynamic_cast<ParticleFilter*>(filter_.get());
+  uwb_ = std::make_unique<UwbFrontend>(uwb, UwbAnchorTable(session.anchors), device_height_m_);
+  if (vo.enabled && camera)
+    vo_ = std::make_unique<FloorOdometry>(*camera, device_height_m_ + camera->p_CinB.z(), vo.odometry);
   if (map && camera && !map->empty()) {
     vlc_ = std::make_unique<VlcFrontend>(*camera, *map, options_, device_height_m_);
     double z = 0.0;
@@ -57,10 +61,17 @@ void FusionEngine::process(const Sample& sample, std::vector<PoseEstimate>& out)
   std::visit(Overloaded{
                  [&](const ImuSample& s) { on_imu(s, out); },
                  [&](const FrameSample& s) {
+                   if (vo_) on_vo_frame(s);
                    if (options_.use_vlc && absolute_wanted(s.t)) on_frame(s, out);
                  },
                  [&](const FixSample& s) {
                    if (options_.use_fixes && absolute_wanted(s.t)) on_fix(s, out);
+                 },
+                 [&](const UwbSample& s) {
+                   if (!uwb_->options().enabled)
+                     ++stats_.other_samples;
+                   else if (absolute_wanted(s.t))
+                     on_uwb(s, out);
                  },
                  [&](const auto&) { ++stats_.other_samples; },
              },
@@ -221,8 +232,109 @@ void FusionEngine::apply_position(const PositionMeasurement& m) {
   if (r.reinitialized && was_initialized) ++stats_.reinitializations;
 }
 
+void FusionEngine::on_uwb(const UwbSample& s, std::vector<PoseEstimate>& out) {
+  const std::optional<UwbRangeLikelihood> lik = uwb_->likelihood(s);
+  if (!lik) return;
+  std::optional<PositionMeasurement> fix = uwb_->fix(s);
+  UwbStats& st = uwb_->stats();
+  if (uwb_->options().fixes_only) {  // UWB alone: the fix is the pose
+    if (!fix || !fix->z.allFinite()) return;
+    PoseEstimate p;
+    p.t = s.t;
+    p.p_BinW = {fix->z.x(), fix->z.y(), device_height_m_};
+    if (ahrs_.initialized()) p.yaw = ahrs_.yaw();
+    p.sigma_x = std::sqrt(fix->R(0, 0));
+    p.sigma_y = std::sqrt(fix->R(1, 1));
+    p.mode = "uwb";
+    out.push_back(std::move(p));
+    ++stats_.poses;
+    return;
+  }
+  // Without an IMU (a UWB-only live run) the prediction is constant velocity.
+  predict_to(std::max(s.t, t_filter_));
+  const bool tight = pf_ && options_.tight_coupling;
+  if (!tight || !filter_->initialized()) {
+    // Loose coupling (seed B.3 fix, Gaussian weighting as in seed A, S302), the EKF, and
+    // the first fix of a tight run.
+    if (fix) {
+      apply_position(*fix);
+      if (!have_imu_) emit(s.t, out, true);
+    }
+    return;
+  }
+  // Tight: weigh every particle by this measurement's likelihood (robust NLOS tail).
+  // Gate at the mean only to notice a lost track, never to refuse an update: the robust
+  // likelihood already discounts outliers.
+  const PlanarEstimate e = pf_->estimate();
+  const UwbNoiseModel& nm = uwb_->options().noise;
+  const double spread = std::sqrt(std::max(0.0, e.cov_p.trace()));
+  const double range_tol = uwb_->options().gate_sigma * std::hypot(nm.range_sigma_m, spread);
+  const double bearing_tol = uwb_->options().gate_sigma * nm.aoa_sigma_rad +
+                             std::max(0.3, spread) / std::max(0.5, lik->horizontal_distance(e.p.x(), e.p.y()));
+  const bool agrees = std::abs(lik->range_residual(e.p.x(), e.p.y())) <= range_tol &&
+                      std::abs(lik->bearing_residual(e.p.x(), e.p.y())) <= bearing_tol;
+  if (!agrees) {
+    ++st.disagreements;
+    if (++uwb_disagreements_ >= uwb_->options().max_consecutive_disagreements && fix) {
+      pf_->initialize(fix->z, fix->R * 4.0);
+      ++st.reinitializations;
+      ++stats_.reinitializations;
+      uwb_disagreements_ = 0;
+      t_last_fix_ = s.t;
+      return;
+    }
+  } else {
+    uwb_disagreements_ = 0;
+  }
+  if (pf_->weigh(*lik) && pf_->normalize_and_resample()) {
+    ++st.weighed;
+    ++stats_.fixes_accepted;
+    t_last_fix_ = s.t;
+  } else if (fix) {  // every particle underflowed: recover at the fix
+    pf_->initialize(fix->z, fix->R * 4.0);
+    ++st.reinitializations;
+    ++stats_.reinitializations;
+  }
+  if (!have_imu_) emit(s.t, out, true);
+}
+
+void FusionEngine::on_vo_frame(const FrameSample& s) {
+  ++vo_stats_.frames;
+  const std::optional<FloorMotion> m = vo_->process(s.gray, s.t);
+  if (!m || !(m->dt_s > 0.0)) return;
+  ++vo_stats_.motions;
+  if (!ahrs_.initialized() || !filter_->initialized() || std::abs(m->scale - 1.0) > vo_options_.max_scale_error) {
+    ++vo_stats_.rejected;
+    return;
+  }
+  // Heading: visual yaw increments, slowly pulled to the attitude filter's yaw.
+  const double yaw_ahrs = ahrs_.yaw();
+  if (!vo_heading_valid_) {
+    vo_heading_ = yaw_ahrs - m->dyaw_rad;  // heading before this interval
+    vo_heading_valid_ = true;
+  }
+  vo_heading_ += m->dyaw_rad;
+  if (vo_options_.heading_tau_s > 0.0) {
+    const double a = std::min(1.0, m->dt_s / vo_options_.heading_tau_s);
+    vo_heading_ += a * std::remainder(yaw_ahrs - vo_heading_, 2.0 * 3.14159265358979323846);
+  }
+  // The body moved d_inB over the frame interval: into the world with the yaw at its middle.
+  const double yaw = vo_heading_ - 0.5 * m->dyaw_rad;
+  const Eigen::Vector2d d_inW(std::cos(yaw) * m->d_inB.x() - std::sin(yaw) * m->d_inB.y(),
+                              std::sin(yaw) * m->d_inB.x() + std::cos(yaw) * m->d_inB.y());
+  VelocityMeasurement v;
+  v.t = s.t;
+  v.v = d_inW / m->dt_s;
+  v.R = Eigen::Matrix2d::Identity() * vo_options_.velocity_sigma_mps * vo_options_.velocity_sigma_mps;
+  predict_to(std::max(s.t, t_filter_));
+  if (filter_->correct_velocity(v).accepted)
+    ++vo_stats_.accepted;
+  else
+    ++vo_stats_.rejected;
+}
+
 void FusionEngine::emit(TimeNs t, std::vector<PoseEstimate>& out, bool force) {
-  if (!filter_->initialized()) return;
+  if (!filter_->initialized() || uwb_->options().fixes_only) return;
   if (!force && emitted_ && options_.output_rate_hz > 0 &&
       ns_to_seconds(t - t_last_emit_) < 1.0 / options_.output_rate_hz - 1e-6)
     return;

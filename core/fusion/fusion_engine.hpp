@@ -13,20 +13,26 @@
 #include "core/fusion/motion_source.hpp"
 #include "core/fusion/vlc_frontend.hpp"
 #include "core/pipeline/fusion_stage.hpp"
+#include "core/uwb/uwb_frontend.hpp"
+#include "core/vo/vo_options.hpp"
 
 namespace luxloc {
 
 class FusionEngine final : public FusionStage {
  public:
   // `map` and `camera` may be absent (then frames are counted and ignored).
+  // UWB anchors come from session.anchors (and from the samples that carry positions).
   FusionEngine(const FusionOptions& options, const std::optional<LedMap>& map,
-               const std::optional<CameraModel>& camera, const SessionConfig& session = {});
+               const std::optional<CameraModel>& camera, const SessionConfig& session = {},
+               const UwbOptions& uwb = {}, const VoOptions& vo = {});
   ~FusionEngine() override;
 
   void process(const Sample& sample, std::vector<PoseEstimate>& out) override;
   void finish(std::vector<PoseEstimate>& out) override;
 
   const FusionStats& stats() const { return stats_; }
+  const UwbStats& uwb_stats() const { return uwb_->stats(); }
+  const VoStats& vo_stats() const { return vo_stats_; }
   const PlanarFilter& filter() const { return *filter_; }
   const MahonyFilter& attitude() const { return ahrs_; }
   const MotionSource& motion() const { return motion_; }
@@ -36,6 +42,8 @@ class FusionEngine final : public FusionStage {
   void on_imu(const ImuSample& s, std::vector<PoseEstimate>& out);
   void on_frame(const FrameSample& s, std::vector<PoseEstimate>& out);
   void on_fix(const FixSample& s, std::vector<PoseEstimate>& out);
+  void on_uwb(const UwbSample& s, std::vector<PoseEstimate>& out);
+  void on_vo_frame(const FrameSample& s);
   void apply_frame(const DecodedFrame& f);
   void apply_position(const PositionMeasurement& m);
   void predict_to(TimeNs t);
@@ -65,6 +73,13 @@ class FusionEngine final : public FusionStage {
   int last_leds_ = 0;
   TimeNs t_last_fix_ = 0;
   std::optional<TimeNs> t_initialized_;  // sample time at which the filter first initialised
+  std::unique_ptr<UwbFrontend> uwb_;
+  int uwb_disagreements_ = 0;
+  VoOptions vo_options_;
+  std::unique_ptr<FloorOdometry> vo_;  // --vo with a camera
+  VoStats vo_stats_;
+  double vo_heading_ = 0.0;
+  bool vo_heading_valid_ = false;
 };
 
 }  // namespace luxloc

@@ -26,6 +26,24 @@ CameraModel default_sim_camera() {
   return c;
 }
 
+CameraModel floor_sim_camera() {
+  CameraModel c;
+  c.width = 320;
+  c.height = 240;
+  c.fx = c.fy = 230.0;
+  c.cx = 160.0;
+  c.cy = 120.0;
+  c.dist = {0.0, 0.0, 0.0, 0.0, 0.0};
+  c.exposure_s = 2e-3;
+  // Looking down: camera x (image right) = body -y, camera y (image down) = body -x
+  // (image top = forward), camera z = body -z.
+  c.R_CtoB << 0, -1, 0,  //
+      -1, 0, 0,          //
+      0, 0, -1;
+  c.p_CinB.setZero();
+  return c;
+}
+
 LedMap default_led_grid() {
   std::vector<Led> leds;
   for (int iy = 0; iy < 3; ++iy)
@@ -115,15 +133,61 @@ Scenario still() {
   return s;
 }
 
+// SEEDS.md B's setting: one UWB base station measuring time of flight and angle of
+// arrival, 5 % non-line-of-sight outliers, a 120 s walk; no camera frames.
+Scenario uwb() {
+  Scenario s = base("uwb",
+                    "a 120 s walk around one ceiling UWB base station at (4, 3, 2.8) giving TOF range + AOA at 10 Hz, "
+                    "5 % NLOS outliers; no camera",
+                    120.0);
+  s.frames = false;
+  s.anchors = {UwbAnchor{1, Eigen::Vector3d(4.0, 3.0, 2.8)}};
+  WalkOptions w;
+  w.waypoints = {{1, 1}, {7, 1}, {7, 5}, {5, 5}, {5, 4}, {3, 4}, {3, 5}, {1, 5}};
+  w.corner_sigma_m = 0.5;
+  w.start_u_m = 2.0;  // (3, 1), heading east
+  w.height_m = s.device_height_m;
+  w.walking = {{2.0, 41.0}, {43.0, 81.0}, {83.0, kInf}};
+  s.trajectory = std::make_shared<WalkTrajectory>(w);
+  return s;
+}
+
+// SEEDS.md C's setting, on wheels: a camera looking down at a textured floor from 1 m,
+// carried smoothly (no gait sway, so the flat-floor odometry model holds) around a loop.
+Scenario floor() {
+  Scenario s = base("floor",
+                    "a 60 s smooth ride (0.8 m/s) with a downward camera over a textured floor, 320x240 at 30 fps; "
+                    "no LEDs; the start position in fixes.csv",
+                    60.0);
+  s.map = LedMap();
+  s.camera = floor_sim_camera();
+  s.floor_camera = true;
+  s.start_fix = true;
+  WalkOptions w;
+  w.waypoints = {{1, 1}, {7, 1}, {7, 5}, {4, 5}, {4, 3}, {1, 3}};
+  w.corner_sigma_m = 0.6;
+  w.start_u_m = 1.0;
+  w.height_m = s.device_height_m;
+  w.walking = {{2.0, kInf}};
+  w.gait.speed_mps = 0.8;
+  w.gait.speed_modulation = 0.0;
+  w.gait.bounce_m = 0.0;
+  w.gait.roll_sway_rad = w.gait.pitch_sway_rad = w.gait.yaw_sway_rad = 0.0;
+  s.trajectory = std::make_shared<WalkTrajectory>(w);
+  return s;
+}
+
 }  // namespace
 
-std::vector<std::string> scenario_names() { return {"walk", "static", "square", "dense"}; }
+std::vector<std::string> scenario_names() { return {"walk", "static", "square", "dense", "uwb", "floor"}; }
 
 Scenario make_scenario(const std::string& name) {
   if (name == "walk") return walk();
   if (name == "static") return still();
   if (name == "square") return square();
   if (name == "dense") return dense();
+  if (name == "uwb") return uwb();
+  if (name == "floor") return floor();
   std::string valid;
   for (const std::string& n : scenario_names()) valid += (valid.empty() ? "" : ", ") + n;
   throw std::invalid_argument("unknown scenario '" + name + "' (valid: " + valid + ")");

@@ -5,7 +5,9 @@
 #include <string>
 #include <vector>
 
+#include "core/common/session_config.hpp"
 #include "core/sim/trajectory.hpp"
+#include "core/sim/uwb_synth.hpp"
 #include "core/vlc/camera_model.hpp"
 #include "core/vlc/led_map.hpp"
 
@@ -20,15 +22,21 @@ struct Scenario {
   LedMap map;
   CameraModel camera;
   std::shared_ptr<const Trajectory> trajectory;
+  bool frames = true;               // false: the session has no camera frames (UWB, IMU, truth)
+  bool floor_camera = false;        // frames show the textured floor (FloorRenderer), not LEDs
+  bool start_fix = false;           // fixes.csv with the true start position (relative navigation)
+  std::vector<UwbAnchor> anchors;   // UWB anchors: non-empty -> uwb.csv and session.yaml anchors
+  UwbSimOptions uwb;
 };
 
-// "walk" (the default), "static", "square", "dense".
+// "walk" (the default), "static", "square", "dense", "uwb", "floor".
 std::vector<std::string> scenario_names();
 // Throws std::invalid_argument naming the valid scenarios for an unknown name.
 Scenario make_scenario(const std::string& name);
 
 // The scenarios' shared pieces, for tests and other tools.
 CameraModel default_sim_camera();  // 640x480, f 460 px, k1 -0.05, 30 us rows, 100 us exposure, looking up
+CameraModel floor_sim_camera();    // 320x240, f 230 px, no distortion, looking down, image top = forward
 // 4 x 3 grid, x = 1,3,5,7, y = 1,3,5, z = 3 m, 0.20 m discs, 1000 + 300 i Hz (ids 1..12).
 LedMap default_led_grid();
 

@@ -88,6 +88,31 @@ void write_session_yaml(const Simulator& sim, const fs::path& p) {
   cv::FileStorage fs(p.string(), cv::FileStorage::WRITE | cv::FileStorage::FORMAT_YAML);
   if (!fs.isOpened()) throw std::runtime_error("cannot write " + p.string());
   fs << "device_height_m" << sim.scenario().device_height_m;
+  if (!sim.scenario().anchors.empty()) {
+    fs << "anchors" << "[";
+    for (const UwbAnchor& a : sim.scenario().anchors)
+      fs << "{:" << "id" << a.id << "x" << a.p_inW.x() << "y" << a.p_inW.y() << "z" << a.p_inW.z() << "}";
+    fs << "]";
+  }
+}
+
+// uwb.csv (SPEC.md) plus the truth the filter must not see: nlos (0/1) and true_range_m
+// (extra columns, ignored by playback).
+std::size_t write_uwb(const Simulator& sim, const fs::path& p) {
+  const std::vector<SimUwbMeasurement> ms = sim.uwb_measurements();
+  File f = open_out(p);
+  const bool aoa = sim.scenario().uwb.with_aoa;
+  std::fputs(aoa ? "t,anchor,range_m,aoa_rad,nlos,true_range_m\n" : "t,anchor,range_m,nlos,true_range_m\n", f.get());
+  for (const SimUwbMeasurement& m : ms) {
+    if (aoa)
+      std::fprintf(f.get(), "%.6f,%d,%.4f,%.5f,%d,%.4f\n", ns_to_seconds(m.sample.t), m.sample.anchor,
+                   m.sample.range_m, m.sample.aoa_rad, m.nlos ? 1 : 0, m.true_range_m);
+    else
+      std::fprintf(f.get(), "%.6f,%d,%.4f,%d,%.4f\n", ns_to_seconds(m.sample.t), m.sample.anchor, m.sample.range_m,
+                   m.nlos ? 1 : 0, m.true_range_m);
+  }
+  close_checked(std::move(f), p);
+  return ms.size();
 }
 
 // What the simulator drew: handy to check calibrations and filters against.
@@ -179,7 +204,15 @@ SessionSummary write_session(const Simulator& sim, const fs::path& dir, const Se
   s.imu_samples = sim.imu_count();
   s.truth_rows = write_truth(sim, dir / "groundtruth.csv");
   s.steps = write_steps(sim, dir / "steps.csv");
-  sim.scenario().map.save((dir / "ledmap.yaml").string());
+  if (!sim.scenario().map.empty()) sim.scenario().map.save((dir / "ledmap.yaml").string());
+  else fs::remove(dir / "ledmap.yaml", ec);  // no stale map from an earlier run
+  if (!sim.scenario().start_fix) fs::remove(dir / "fixes.csv", ec);
+  if (sim.scenario().start_fix) {  // relative navigation starts from a known point
+    const BodyState s0 = sim.truth(0.0);
+    File f = open_out(dir / "fixes.csv");
+    std::fprintf(f.get(), "t,x,y,sigma_m\n%.6f,%.6f,%.6f,0.02\n", 0.0, s0.p_BinW.x(), s0.p_BinW.y());
+    close_checked(std::move(f), dir / "fixes.csv");
+  }
   sim.scenario().camera.save((dir / "camera.yaml").string());
   write_session_yaml(sim, dir / "session.yaml");
   write_sim_truth(sim, dir / "sim_truth.yaml");
@@ -191,7 +224,13 @@ SessionSummary write_session(const Simulator& sim, const fs::path& dir, const Se
   } else {
     fs::remove(dir / "fixes.csv", ec);
   }
-  if (options.write_frames) {
+  if (!sim.scenario().anchors.empty()) {
+    s.uwb_rows = write_uwb(sim, dir / "uwb.csv");
+    s.files += 1;
+  } else {  // no stale uwb.csv from an earlier run may remain
+    fs::remove(dir / "uwb.csv", ec);
+  }
+  if (options.write_frames && sim.scenario().frames) {
     s.frames = write_frames(sim, dir, options, s.frame_bytes);
     s.files += 1 + s.frames;
   } else {  // an IMU-only session: no stale frames from an earlier run may remain
@@ -199,7 +238,7 @@ SessionSummary write_session(const Simulator& sim, const fs::path& dir, const Se
     fs::remove(dir / "frames.csv", ec);
   }
   for (const char* name : {"imu.csv", "groundtruth.csv", "steps.csv", "ledmap.yaml", "camera.yaml", "session.yaml",
-                           "sim_truth.yaml", "frames.csv", "fixes.csv"})
+                           "sim_truth.yaml", "frames.csv", "fixes.csv", "uwb.csv"})
     if (fs::exists(dir / name)) s.bytes += fs::file_size(dir / name);
   s.bytes += s.frame_bytes;
   return s;

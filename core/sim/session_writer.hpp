@@ -28,6 +28,7 @@ struct SessionSummary {
   std::size_t truth_rows = 0;
   std::size_t steps = 0;
   std::size_t fixes = 0;
+  std::size_t uwb_rows = 0;  // uwb.csv (scenarios with UWB anchors)
   std::size_t files = 0;
   std::uintmax_t bytes = 0;      // total size of the files written
   std::uintmax_t frame_bytes = 0;

@@ -19,6 +19,9 @@ Simulator::Simulator(Scenario scenario, SimOptions options) : scenario_(std::mov
   std::mt19937_64 phase_rng = make_rng(opt_.seed, RandomStream::led_phases);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   for (const Led& l : scenario_.map.leds()) phases_s_.push_back(unit(phase_rng) / l.freq_hz);
+  if (scenario_.floor_camera)  // the room plus a 1.5 m margin (beyond a 1 m-high camera's view), 3 mm texels
+    floor_ = std::make_shared<FloorRenderer>(scenario_.camera, -1.5, -1.5, scenario_.room_x_m + 3.0,
+                                             scenario_.room_y_m + 3.0, 0.003, opt_.seed);
 }
 
 std::size_t Simulator::imu_count() const {
@@ -47,12 +50,23 @@ bool Simulator::lights_on(double t_s) const {
 
 RenderedFrame Simulator::render(std::size_t k) const {
   const double t0 = frame_time_s(k);
+  if (floor_) {
+    std::mt19937_64 rng = make_rng(opt_.seed, RandomStream::frame, k);
+    RenderedFrame f;
+    f.gray = floor_->render(scenario_.trajectory->state(t0 + 0.5 * scenario_.camera.exposure_s).T_BtoW(), rng,
+                            opt_.render.read_noise_dn);
+    return f;
+  }
   RenderOptions ro = opt_.render;
   ro.lights_on = ro.lights_on && lights_on(t0);
   std::mt19937_64 rng = make_rng(opt_.seed, RandomStream::frame, k);
   const Trajectory& traj = *scenario_.trajectory;
   const PoseAt pose_at = [&traj](double t) { return traj.state(t).T_BtoW(); };
   return render_frame(scenario_.camera, scenario_.map, pose_at, t0, ro, rng, phases_s_);
+}
+
+std::vector<SimUwbMeasurement> Simulator::uwb_measurements() const {
+  return synthesize_uwb(*scenario_.trajectory, scenario_.anchors, scenario_.uwb, duration_s_, opt_.seed);
 }
 
 }  // namespace luxloc::sim

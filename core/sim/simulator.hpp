@@ -7,6 +7,9 @@
 #include <vector>
 
 #include "core/common/samples.hpp"
+#include <memory>
+
+#include "core/sim/floor_renderer.hpp"
 #include "core/sim/frame_renderer.hpp"
 #include "core/sim/imu_synth.hpp"
 #include "core/sim/scenario.hpp"
@@ -55,12 +58,16 @@ class Simulator {
   bool lights_on(double t_s) const;
   RenderedFrame render(std::size_t k) const;
 
+  // The scenario's UWB measurements (empty without anchors), in time order.
+  std::vector<SimUwbMeasurement> uwb_measurements() const;
+
  private:
   Scenario scenario_;
   SimOptions opt_;
   double duration_s_ = 0.0;
   ImuBiases biases_;
   std::vector<double> phases_s_;
+  std::shared_ptr<const FloorRenderer> floor_;  // floor_camera scenarios
 };
 
 }  // namespace luxloc::sim

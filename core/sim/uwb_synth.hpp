@@ -1,0 +1,40 @@
+#pragma once
+// Synthetic UWB measurements (docs/UWB_VO_CALIB.md "Simulator"): every 1/rate_hz, for each
+// anchor, the true 3-D distance anchor -> device plus noise (time of flight, c0 * tau) and,
+// with with_aoa, the world bearing of the device seen from the anchor plus noise (SEEDS.md
+// B.3's theta). With probability nlos_probability a measurement is non-line-of-sight: the
+// range gains a positive bias (nlos_bias_min_m + an exponential of mean
+// nlos_bias_mean_m) and the bearing points somewhere else (nlos_aoa_sigma_rad).
+// The draws come from their own stream (seeding.hpp): adding UWB to a scenario changes no
+// other file of the session.
+#include <cstdint>
+#include <vector>
+
+#include "core/common/samples.hpp"
+#include "core/common/session_config.hpp"
+#include "core/sim/trajectory.hpp"
+
+namespace luxloc::sim {
+
+struct UwbSimOptions {
+  double rate_hz = 10.0;
+  double offset_s = 0.003;  // first measurement (radio and IMU clocks differ)
+  bool with_aoa = true;
+  double range_sigma_m = 0.10;
+  double aoa_sigma_rad = 0.05;  // ~3 deg
+  double nlos_probability = 0.05;
+  double nlos_bias_min_m = 0.3;
+  double nlos_bias_mean_m = 0.9;  // of the exponential part
+  double nlos_aoa_sigma_rad = 0.3;
+};
+
+struct SimUwbMeasurement {
+  UwbSample sample;
+  bool nlos = false;
+  double true_range_m = 0.0;
+};
+
+std::vector<SimUwbMeasurement> synthesize_uwb(const Trajectory& trajectory, const std::vector<UwbAnchor>& anchors,
+                                              const UwbSimOptions& options, double duration_s, std::uint64_t seed);
+
+}  // namespace luxloc::sim

@@ -1,0 +1,39 @@
+#pragma once
+// Known UWB anchor positions by id: from session.yaml / a map file (SPEC.md `anchors`), or
+// learnt from the device's own reports (a DWM1001 tag lists each anchor's position).
+#include <Eigen/Core>
+#include <map>
+#include <optional>
+#include <vector>
+
+#include "core/common/session_config.hpp"
+
+namespace luxloc {
+
+class UwbAnchorTable {
+ public:
+  UwbAnchorTable() = default;
+  explicit UwbAnchorTable(const std::vector<UwbAnchor>& anchors) {
+    for (const UwbAnchor& a : anchors) anchors_[a.id] = a.p_inW;
+  }
+
+  std::optional<Eigen::Vector3d> find(int id) const {
+    const auto it = anchors_.find(id);
+    if (it == anchors_.end()) return std::nullopt;
+    return it->second;
+  }
+  // Adds an anchor the configuration did not name (configured positions win: a surveyed
+  // position beats what the tag was told). Returns true when it was new.
+  bool learn(int id, const Eigen::Vector3d& p_AinW) {
+    if (!p_AinW.allFinite() || anchors_.count(id)) return false;
+    anchors_[id] = p_AinW;
+    return true;
+  }
+  std::size_t size() const { return anchors_.size(); }
+  bool empty() const { return anchors_.empty(); }
+
+ private:
+  std::map<int, Eigen::Vector3d> anchors_;
+};
+
+}  // namespace luxloc

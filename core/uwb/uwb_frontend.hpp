@@ -1,0 +1,55 @@
+#pragma once
+// Turns UwbSamples into what the filters take: a per-particle likelihood (tight coupling)
+// and position fixes (loose coupling, initialisation, the EKF, the UWB-alone baseline):
+// seed B.3's TOF + AOA fix for a sample with a bearing, multilateration over a group of
+// ranges (>= 3 anchors within group_window_s) otherwise.
+#include <optional>
+#include <vector>
+
+#include "core/common/samples.hpp"
+#include "core/filter/planar_filter.hpp"
+#include "core/uwb/uwb_anchor_table.hpp"
+#include "core/uwb/uwb_options.hpp"
+#include "core/uwb/uwb_range_likelihood.hpp"
+
+namespace luxloc {
+
+struct UwbStats {
+  std::uint64_t samples = 0;
+  std::uint64_t unknown_anchor = 0;   // no position for the anchor: skipped
+  std::uint64_t rejected = 0;         // non-finite range / bearing
+  std::uint64_t learnt_anchors = 0;   // anchor positions taken from the device's reports
+  std::uint64_t weighed = 0;          // tight updates the particle filter took
+  std::uint64_t disagreements = 0;    // tight updates far from the filter's mean
+  std::uint64_t fixes = 0;            // position fixes made (B.3 or multilateration)
+  std::uint64_t reinitializations = 0;
+};
+
+class UwbFrontend {
+ public:
+  UwbFrontend(const UwbOptions& options, UwbAnchorTable anchors, double z_B);
+
+  // nullopt (counted) when the sample is unusable or its anchor unknown. Learns anchor
+  // positions the sample carries.
+  std::optional<UwbRangeLikelihood> likelihood(const UwbSample& s);
+  // A position fix, when this sample completes one (see above). Call for every sample
+  // (after likelihood(), which does the counting and learning).
+  std::optional<PositionMeasurement> fix(const UwbSample& s);
+
+  const UwbOptions& options() const { return options_; }
+  UwbStats& stats() { return stats_; }
+  const UwbStats& stats() const { return stats_; }
+  const UwbAnchorTable& anchors() const { return anchors_; }
+
+ private:
+  std::optional<PositionMeasurement> flush_group();
+
+  UwbOptions options_;
+  UwbAnchorTable anchors_;
+  double z_B_;
+  UwbStats stats_;
+  std::vector<std::pair<int, RangeToAnchor>> group_;  // ranges without AOA, one per anchor
+  TimeNs group_t0_ = 0;
+};
+
+}  // namespace luxloc
