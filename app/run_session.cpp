@@ -86,8 +86,13 @@ void add_run_options(CLI::App* sub, RunConfig& cfg) {
       ->capture_default_str();
   sub->add_option("--motion", cfg.motion,
                   "motion model of the prediction: pdr (steps, step length, attitude heading; gait calibrated by "
-                  "the fixes) | strapdown (world acceleration) | cv (constant velocity, no IMU); docs/MOTION.md")
-      ->check(CLI::IsMember(motion_model_names()))
+                  "the fixes) | strapdown (world acceleration) | cv (constant velocity, no IMU) | auto (pdr; "
+                  "strapdown with --vo: a vehicle, seed C); docs/MOTION.md")
+      ->check(CLI::IsMember([] {
+        auto names = motion_model_names();
+        names.push_back("auto");
+        return names;
+      }()))
       ->capture_default_str();
   sub->add_option("--imu-calib", cfg.imu_calib, "IMU calibration YAML from `luxloc calib imu`")
       ->check(CLI::ExistingFile)
@@ -294,7 +299,9 @@ RunOutcome run_session(const RunConfig& cfg, std::ostream& log) {
   c.fusion.pf.scheme = parse_resampling_scheme(cfg.resampling);
   c.fusion.tight_coupling = cfg.coupling == "tight";
   c.uwb.noise.likelihood = cfg.uwb_likelihood == "gaussian" ? UwbLikelihood::gaussian : UwbLikelihood::robust;
-  c.fusion.motion.model = parse_motion_model(cfg.motion);
+  // auto: a pedestrian (pdr), except with visual odometry, seed C's strapdown + VO (the VO
+  // scenario is a smooth ride without steps, where pdr would see a still device).
+  c.fusion.motion.model = parse_motion_model(cfg.motion != "auto" ? cfg.motion : cfg.vo.enabled ? "strapdown" : "pdr");
   if (!cfg.imu_calib.empty()) c.fusion.imu_calibration = load_imu_calibration(cfg.imu_calib);
 
   OpenedSources opened = open_run_sources(c);

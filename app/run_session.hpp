@@ -25,7 +25,7 @@ struct RunConfig {
   std::string uwb_likelihood = "robust";  // robust | gaussian
   std::string resampling = "systematic";
   std::string coupling = "tight";    // tight | loose
-  std::string motion = "pdr";        // pdr | strapdown | cv (docs/MOTION.md)
+  std::string motion = "auto";       // auto | pdr | strapdown | cv (docs/MOTION.md)
   std::string imu_calib;             // --imu-calib FILE (luxloc calib imu)
   std::string out;                   // pose file; "-" = stdout; empty and no --udp: stdout
   std::vector<std::string> udp;      // HOST:PORT, repeatable

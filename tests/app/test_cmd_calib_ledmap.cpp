@@ -53,7 +53,6 @@ TEST_CASE("calib ledmap refine: LEDs moved up to 0.5 m come back within 3 cm", "
     CHECK(refined.leds()[i].freq_hz == truth.leds()[i].freq_hz);
   }
   CHECK(refined_leds >= 9);  // the walk passes under most of the 12 lights
-  CHECK(r.output.find("kept: fewer than") != std::string::npos);
 }
 
 TEST_CASE("calib ledmap check: a misplaced LED and an inseparable pair are flagged", "[calib][vlc]") {

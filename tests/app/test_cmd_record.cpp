@@ -26,7 +26,7 @@ TEST_CASE("A live sim: run recorded with --record plays back to the same poses, 
   CHECK(read_text(dir / "other.csv") != a);
 }
 
-TEST_CASE("luxloc record: writes a session folder; refuses to overwrite one; needs a live source", "[app][io]") {
+TEST_CASE("luxloc record: writes a session folder, refuses to overwrite one, needs a live source", "[app][io]") {
   const auto dir = scratch_dir("cmd_record");
   const auto rec = run_luxloc("record --source sim:square,duration=1.5 --out '" + (dir / "s").string() + "'");
   INFO(rec.output);

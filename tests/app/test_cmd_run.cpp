@@ -24,7 +24,7 @@ std::string line_of(const std::string& text, const std::string& key) {
 
 }  // namespace
 
-TEST_CASE("luxloc run --dump-config writes a [run] config that --config reads back; flags override it", "[app]") {
+TEST_CASE("luxloc run --dump-config writes a [run] config that --config reads back, flags override it", "[app]") {
   const auto dir = scratch_dir("cmd_run_config");
   const auto dumped = run_luxloc("run --playback '" + kDemo + "' --particles 600 --filter ekf --udp 127.0.0.1:9 --dump-config");
   INFO(dumped.output);

@@ -82,7 +82,7 @@ TEST_CASE("luxloc sim writes a complete, readable session folder", "[sim]") {
   CHECK(lit > 10);
 }
 
-TEST_CASE("luxloc sim: same seed, identical files; another seed, other noise", "[sim]") {
+TEST_CASE("luxloc sim: same seed, identical files, another seed, other noise", "[sim]") {
   const auto base = test::scratch_dir("cmd_sim_seed");
   const auto a = base / "a", b = base / "b", c = base / "c";
   REQUIRE(run_luxloc("sim --out '" + a.string() + "' --duration 2 --seed 5").exit_code == 0);

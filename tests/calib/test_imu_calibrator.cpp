@@ -32,7 +32,7 @@ TEST_CASE("calib imu: six-position log recovers accelerometer bias and scale and
     CHECK((m - c.acc_bias).cwiseQuotient(c.acc_scale).norm() == Approx(9.80665).epsilon(1e-3));
 }
 
-TEST_CASE("calib imu: static mode needs one still segment; six-position names what is missing", "[imu]") {
+TEST_CASE("calib imu: static mode needs one still segment, six-position names what is missing", "[imu]") {
   const std::vector<ImuSample> three = test::six_position_log({}, 3);
   calib::ImuCalibratorOptions o;
   o.mode = calib::ImuCalibMode::static_only;

@@ -128,7 +128,7 @@ TEST_CASE("eval: yaw RMSE wraps angles", "[io]") {
   CHECK(wrap_angle(7.0) == Approx(7.0 - 2 * std::numbers::pi));
 }
 
-TEST_CASE("eval: JSON has no NaN; bad truth order is refused", "[io]") {
+TEST_CASE("eval: JSON has no NaN, bad truth order is refused", "[io]") {
   const auto truth = line_truth(2.0);
   const std::string j = format_eval_json(evaluate(truth, {pose(0.5, 0.5, 2.1)}));
   CHECK_THAT(j, Catch::Contains("\"ate_rmse_m\":0.100000"));

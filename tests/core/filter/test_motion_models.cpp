@@ -117,7 +117,7 @@ TEST_CASE("Pedestrian model: bit-identical across thread counts, resampling keep
   CHECK(same);
 }
 
-TEST_CASE("Pedestrian model: non-finite gait inputs predict nothing; standing still does not drift", "[filter][motion]") {
+TEST_CASE("Pedestrian model: non-finite gait inputs predict nothing, standing still does not drift", "[filter][motion]") {
   for (const bool particle : {true, false}) {
     std::unique_ptr<PlanarFilter> f;
     if (particle)

@@ -52,7 +52,7 @@ EvalResult run_eval(const fs::path& session, const fs::path& poses, const std::s
 
 }  // namespace
 
-TEST_CASE("luxloc run --imu-calib removes a known IMU bias; a bad file exits 2", "[e2e][motion][imu]") {
+TEST_CASE("luxloc run --imu-calib removes a known IMU bias, a bad file exits 2", "[e2e][motion][imu]") {
   const auto dir = test::scratch_dir("run_imu_calib");
   const auto session = dir / "walk";
   const auto sim = run_luxloc("sim --out '" + session.string() + "' --scenario walk --duration 20 --seed 4");

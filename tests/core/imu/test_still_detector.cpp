@@ -39,7 +39,7 @@ TEST_CASE("StillDetector: quiet readings are still, the mean rate is the bias, m
   CHECK(d.still_samples() == 0);
 }
 
-TEST_CASE("StillDetector: shaking (acc spread) and free fall are not still; NaN is ignored", "[imu]") {
+TEST_CASE("StillDetector: shaking (acc spread) and free fall are not still, NaN is ignored", "[imu]") {
   StillDetector d;
   TimeNs t = 0;
   for (int k = 0; k < 100; ++k, t += 10'000'000)

@@ -243,7 +243,7 @@ TEST_CASE("Blackout: no pixel above the noise, no LED in the ground truth", "[si
   CHECK(sd[0] == Approx(std::sqrt(opt.read_noise_dn * opt.read_noise_dn + 1.0 / 12.0)).epsilon(0.03));
 }
 
-TEST_CASE("Ground truth of a walking frame matches the image; same seed -> same pixels", "[sim]") {
+TEST_CASE("Ground truth of a walking frame matches the image, same seed -> same pixels", "[sim]") {
   SimOptions so;
   so.seed = 9;
   const Simulator sim(make_scenario("walk"), so);

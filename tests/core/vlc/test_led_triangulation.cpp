@@ -27,7 +27,7 @@ std::vector<BearingRay> rays_to(const Eigen::Vector3d& led, int n, double noise_
 
 }  // namespace
 
-TEST_CASE("triangulate: clean rays give the point; noise averages out", "[vlc]") {
+TEST_CASE("triangulate: clean rays give the point, noise averages out", "[vlc]") {
   const Eigen::Vector3d led(3.0, 5.0, 3.0);
   const TriangulatedPoint exact = triangulate(rays_to(led, 20, 0.0, 1));
   REQUIRE(exact.ok);
@@ -40,7 +40,7 @@ TEST_CASE("triangulate: clean rays give the point; noise averages out", "[vlc]")
   CHECK(noisy.rms_m == Approx(0.016).epsilon(0.25));
 }
 
-TEST_CASE("triangulate: a wrong ray is down-weighted; known height; parallel rays refused", "[vlc]") {
+TEST_CASE("triangulate: a wrong ray is down-weighted, known height, parallel rays refused", "[vlc]") {
   const Eigen::Vector3d led(1.0, 1.0, 2.9);
   std::vector<BearingRay> rays = rays_to(led, 30, 0.002, 3);
   BearingRay wrong;

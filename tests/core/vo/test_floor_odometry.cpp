@@ -91,6 +91,7 @@ TEST_CASE("Seed C on the floor scenario: IMU + VO through the PF, final drift <=
   const auto run = [&](const std::string& filter, bool vo_on) {
     FusionOptions f;
     f.filter = filter;
+    f.motion.model = MotionModel::strapdown;  // seed C: strapdown + VO (a ride, no steps)
     VoOptions vo;
     vo.enabled = vo_on;
     FusionEngine engine(f, std::nullopt, sc.camera, cfg, UwbOptions{}, vo);

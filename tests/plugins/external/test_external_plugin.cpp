@@ -11,7 +11,7 @@
 using namespace luxloc;
 using namespace luxloc::test;
 
-TEST_CASE("External plugin: loads, opens, streams IMU and fixes; failures and refusals are reported", "[plugins]") {
+TEST_CASE("External plugin: loads, opens, streams IMU and fixes, failures and refusals are reported", "[plugins]") {
   const auto plugin = ExternalPlugin::load(LUXLOC_EXAMPLE_PLUGIN);
   CHECK(plugin->kind() == "example-fixes");
   PluginSource src(plugin, SourceSpec::parse("example-fixes:circle,count=5,rate=100"));
@@ -53,7 +53,7 @@ TEST_CASE("External plugin: missing file, no entry point, ABI mismatch are clear
                     Catch::Contains("plugin ABI version 99, this luxloc speaks 1"));
 }
 
-TEST_CASE("luxloc run --plugin: the plugin's source kind fuses; errors exit 2", "[plugins][app]") {
+TEST_CASE("luxloc run --plugin: the plugin's source kind fuses, errors exit 2", "[plugins][app]") {
   const auto dir = scratch_dir("external_plugin_run");
   const std::string plug = std::string("--plugin '") + LUXLOC_EXAMPLE_PLUGIN + "'";
   const auto r = run_luxloc("run " + plug + " --source example-fixes:circle,count=100,rate=100 --out '" +

@@ -138,7 +138,7 @@ TEST_CASE("playback: out-of-order and duplicated rows are skipped and counted", 
   CHECK_THAT(first_message(*s.sources[0], playback_drop::kOutOfOrder), Catch::Contains("imu.csv:4: field 't'"));
 }
 
-TEST_CASE("playback: UWB rows of several anchors may share a time stamp; aoa optional", "[io]") {
+TEST_CASE("playback: UWB rows of several anchors may share a time stamp, aoa optional", "[io]") {
   const fs::path dir = scratch_dir("io_playback_uwb");
   write_text(dir / "uwb.csv",
              "t,anchor,range_m,aoa_rad\n"
@@ -292,7 +292,7 @@ TEST_CASE("playback: unusable session folders are InputErrors", "[io]") {
   }
 }
 
-TEST_CASE("playback: session.yaml anchors, height and file-name overrides; --map / --camera", "[io]") {
+TEST_CASE("playback: session.yaml anchors, height and file-name overrides, --map / --camera", "[io]") {
   const fs::path dir = scratch_dir("io_playback_session_yaml");
   fs::create_directories(dir / "raw");
   write_text(dir / "raw" / "ranges.csv", "t,anchor,range_m\n0.1,3,4.0\n");

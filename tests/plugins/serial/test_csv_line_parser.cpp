@@ -39,7 +39,7 @@ TEST_CASE("CSV lines: SPEC order by default, optional magnetometer, CRLF, commen
   }
 }
 
-TEST_CASE("CSV lines: a header sets the column order; units convert; bad and long lines are counted", "[imu]") {
+TEST_CASE("CSV lines: a header sets the column order, units convert, bad and long lines are counted", "[imu]") {
   CsvLineOptions o;
   o.acc_to_mps2 = CsvLineOptions::acc_unit("g");
   o.gyro_to_rps = CsvLineOptions::gyro_unit("dps");
@@ -57,7 +57,7 @@ TEST_CASE("CSV lines: a header sets the column order; units convert; bad and lon
   CHECK(drops.count(serial_drop::kLongLine) == 1);
 }
 
-TEST_CASE("CSV lines: configured columns; device time mapped onto the arrival clock", "[imu]") {
+TEST_CASE("CSV lines: configured columns, device time mapped onto the arrival clock", "[imu]") {
   CsvLineOptions o;
   o.columns = CsvLineOptions::parse_columns("_:t:ax:ay:az:gx:gy:gz");
   o.device_time = true;

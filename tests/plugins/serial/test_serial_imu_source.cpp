@@ -196,7 +196,7 @@ TEST_CASE("Serial IMU: on_loss=wait survives the device going away and coming ba
   CHECK(source.failure().empty());
 }
 
-TEST_CASE("Serial IMU: request_stop unblocks a waiting next(); bad specs are input errors", "[imu]") {
+TEST_CASE("Serial IMU: request_stop unblocks a waiting next(), bad specs are input errors", "[imu]") {
   REQUIRE_SOCAT();
   test::SocatPair pty(test::scratch_dir("serial_stop"));
   REQUIRE(pty.running());

@@ -118,7 +118,7 @@ TEST_CASE("WitMotion: a bad checksum drops that packet's sample, counted, and th
   CHECK(drops.count(serial_drop::kSkippedBytes) == 11);
 }
 
-TEST_CASE("WitMotion: a stream joined mid-cycle; samples back-dated inside a read", "[imu]") {
+TEST_CASE("WitMotion: a stream joined mid-cycle, samples back-dated inside a read", "[imu]") {
   std::vector<std::uint8_t> bytes;
   for (int k = 0; k < 5; ++k) {
     auto c = cycle(k);

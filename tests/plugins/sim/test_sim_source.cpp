@@ -36,7 +36,7 @@ TEST_CASE("sim: source emits the simulator's IMU and frames in time order", "[si
   CHECK(src.live());
 }
 
-TEST_CASE("sim: paced source stops on request; bad specs are input errors", "[sim]") {
+TEST_CASE("sim: paced source stops on request, bad specs are input errors", "[sim]") {
   SimSource src(SimSourceOptions::from_spec(SourceSpec::parse("sim:static,duration=30")));
   std::thread stopper([&] {
     std::this_thread::sleep_for(std::chrono::milliseconds(200));
