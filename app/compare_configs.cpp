@@ -15,6 +15,7 @@ const std::vector<CompareConfig>& compare_configs() {
        [](RunConfig& c) {
          c.fusion.filter = "pf";
          c.coupling = "loose";
+         c.uwb_likelihood = "gaussian";  // seed A's plain Gaussian weighting, no NLOS tail
          c.fusion.pf.resample_every_correction = true;
        }},
       {"gpf-b", "seed B: genetic PF (crossover + mutation)",
@@ -27,7 +28,7 @@ const std::vector<CompareConfig>& compare_configs() {
          c.fusion.filter = "ekf";
          c.coupling = "loose";
        }},
-      {"best", "luxloc run's defaults (tightly coupled PF)", [](RunConfig&) {}},
+      {"best", "luxloc run's defaults (PF, pdr, tight VLC, robust UWB)", [](RunConfig&) {}},
   };
   return configs;
 }
