@@ -28,7 +28,7 @@ const std::vector<CompareConfig>& compare_configs() {
          c.fusion.filter = "ekf";
          c.coupling = "loose";
        }},
-      {"best", "luxloc run's defaults (PF, pdr, tight VLC, robust UWB)", [](RunConfig&) {}},
+      {"best", "run's defaults (PF, pdr, tight VLC, robust UWB)", [](RunConfig&) {}},
   };
   return configs;
 }
