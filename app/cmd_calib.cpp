@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "app/commands.hpp"
+#include "app/run_session.hpp"
 #include "calib/camera_calibrator.hpp"
 #include "calib/imu_calibrator.hpp"
 #include "core/common/input_error.hpp"
@@ -109,6 +110,10 @@ void add_calib_imu(CLI::App& calib, Action& action) {
 
 struct CalibCameraArgs {
   std::string images;
+  std::string playback;              // or the frames of a session folder
+  std::vector<std::string> sources;  // or a live camera (v4l2:...)
+  std::size_t views = 20;            // boards to collect from a stream
+  double interval_s = 1.0;           // at least this far apart (s of stream time)
   std::string board = "9x6";
   double square_m = 0.025;
   std::string out;
@@ -131,35 +136,80 @@ cv::Size parse_board(const std::string& text) {
   }
 }
 
+// Boards from a stream (a session's frames or a live camera): a frame is kept when the board
+// is found, at least interval_s after the last kept one, and moved (mean corner shift > 5 % of
+// the image width) so the views differ; until `views` are kept or the stream ends.
+void collect_board_views(const CalibCameraArgs& a, const calib::CameraCalibOptions& o, std::vector<cv::Mat>& images,
+                         std::vector<std::string>& names) {
+  RunConfig rc;
+  rc.playback = a.playback;
+  rc.sources = a.sources;
+  OpenedSources opened = open_run_sources(rc);
+  std::optional<TimeNs> last_t;
+  std::vector<cv::Point2f> last_corners;
+  std::size_t frames = 0;
+  for (SourcePtr& src : opened.session.sources) {
+    SensorData d;
+    while (images.size() < a.views && src->next(d)) {
+      const auto* f = std::get_if<FrameSample>(&d);
+      if (!f) continue;
+      ++frames;
+      if (last_t && ns_to_seconds(f->t - *last_t) < a.interval_s) continue;
+      const std::vector<cv::Point2f> corners = calib::detect_chessboard(f->gray, o);
+      if (corners.empty()) continue;
+      if (!last_corners.empty()) {
+        double shift = 0.0;
+        for (std::size_t i = 0; i < corners.size(); ++i) shift += cv::norm(corners[i] - last_corners[i]);
+        if (shift / static_cast<double>(corners.size()) < 0.05 * f->gray.cols) continue;
+      }
+      char name[48];
+      std::snprintf(name, sizeof name, "frame %zu (t %.3f s)", frames, ns_to_seconds(f->t));
+      images.push_back(f->gray.clone());
+      names.emplace_back(name);
+      last_t = f->t;
+      last_corners = corners;
+      std::fprintf(stderr, "calib camera: view %zu of %zu: %s\n", images.size(), a.views, name);
+    }
+    src->request_stop();
+  }
+}
+
 int run_calib_camera(const CalibCameraArgs& a) {
+  if ((!a.images.empty()) + (!a.playback.empty()) + (!a.sources.empty()) != 1)
+    throw InputError("calib camera", 0, "--images", "give one of --images DIR, --playback DIR or --source SPEC");
   calib::CameraCalibOptions o;
   o.board = parse_board(a.board);
   o.square_m = a.square_m;
   o.free_k3 = a.free_k3;
   o.reject_factor = a.reject_factor;
-  std::vector<fs::path> files;
-  for (const fs::directory_entry& e : fs::directory_iterator(a.images)) {
-    std::string ext = e.path().extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    if (e.is_regular_file() && (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp" || ext == ".tif" ||
-                                ext == ".tiff" || ext == ".pgm" || ext == ".ppm"))
-      files.push_back(e.path());
-  }
-  std::sort(files.begin(), files.end());
-  if (files.empty()) throw InputError(a.images, 0, "--images", "no image files (png, jpg, bmp, tif, pgm) in the folder");
   std::vector<cv::Mat> images;
   std::vector<std::string> names;
-  for (const fs::path& f : files) {
-    cv::Mat g = cv::imread(f.string(), cv::IMREAD_GRAYSCALE);
-    if (g.empty()) std::fprintf(stderr, "luxloc: %s: not a readable image, skipped\n", f.string().c_str());
-    images.push_back(g);
-    names.push_back(f.filename().string());
+  const std::string origin = !a.images.empty() ? a.images : !a.playback.empty() ? a.playback : "--source";
+  if (!a.images.empty()) {
+    std::vector<fs::path> files;
+    for (const fs::directory_entry& e : fs::directory_iterator(a.images)) {
+      std::string ext = e.path().extension().string();
+      std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+      if (e.is_regular_file() && (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp" || ext == ".tif" ||
+                                  ext == ".tiff" || ext == ".pgm" || ext == ".ppm"))
+        files.push_back(e.path());
+    }
+    std::sort(files.begin(), files.end());
+    if (files.empty()) throw InputError(a.images, 0, "--images", "no image files (png, jpg, bmp, tif, pgm) in the folder");
+    for (const fs::path& f : files) {
+      cv::Mat g = cv::imread(f.string(), cv::IMREAD_GRAYSCALE);
+      if (g.empty()) std::fprintf(stderr, "luxloc: %s: not a readable image, skipped\n", f.string().c_str());
+      images.push_back(g);
+      names.push_back(f.filename().string());
+    }
+  } else {
+    collect_board_views(a, o, images, names);
   }
   calib::CameraCalibResult r;
   try {
     r = calib::calibrate_camera(images, names, o);
   } catch (const std::invalid_argument& e) {
-    throw InputError(a.images, 0, "--images", e.what());
+    throw InputError(origin, 0, a.images.empty() ? "frames" : "--images", e.what());
   }
   // Not entered: CameraModel's defaults stay (30 us rows, 100 us exposure), with a note.
   if (a.row_time_us > 0.0) r.camera.row_time_s = a.row_time_us * 1e-6;
@@ -195,8 +245,11 @@ void add_calib_camera(CLI::App& calib, Action& action) {
   CLI::App* cmd = calib.add_subcommand(
       "camera", "camera calibration from chessboard images (Zhang, OpenCV) -> camera.yaml");
   cmd->add_option("--images", args->images, "folder of chessboard images (png, jpg, ...), read in name order")
-      ->required()
       ->check(CLI::ExistingDirectory);
+  cmd->add_option("--playback", args->playback, "or: the frames of a recorded session")->check(CLI::ExistingDirectory);
+  cmd->add_option("--source", args->sources, "or: a live camera, e.g. v4l2:/dev/video0 (show the board in many poses)");
+  cmd->add_option("--views", args->views, "boards to collect from --playback / --source")->capture_default_str();
+  cmd->add_option("--interval", args->interval_s, "seconds between collected views")->capture_default_str();
   cmd->add_option("--board", args->board, "inner corners COLSxROWS")->capture_default_str();
   cmd->add_option("--square", args->square_m, "square side, m")->check(CLI::PositiveNumber)->capture_default_str();
   cmd->add_option("--out", args->out, "camera.yaml to write (SPEC.md camera file)")->required();

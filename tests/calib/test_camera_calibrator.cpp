@@ -240,3 +240,36 @@ TEST_CASE("luxloc calib camera: a folder of board images -> camera.yaml that run
   CHECK(bad_board.exit_code == 2);
   CHECK(bad_board.output.find("--board") != std::string::npos);
 }
+
+TEST_CASE("luxloc calib camera --playback: boards collected from a session's frames, distinct views only", "[calib]") {
+  const TrueCamera cam;
+  std::mt19937_64 rng(10);
+  const auto dir = test::scratch_dir("calib_camera_stream");
+  const auto s = dir / "session";
+  std::filesystem::create_directories(s / "frames");
+  // Each pose held for 3 frames at 2 fps (repeats must be skipped), a blank frame between.
+  std::string csv = "t,file\n";
+  int n = 0;
+  for (const auto& [r, t] : poses()) {
+    const cv::Mat board = render_board(cam, r, t, 0.025, rng, cam.dist);
+    for (int rep = 0; rep < 4; ++rep) {
+      char name[32];
+      std::snprintf(name, sizeof name, "frames/%04d.png", n);
+      cv::imwrite((s / name).string(), rep < 3 ? board : cv::Mat(480, 640, CV_8UC1, cv::Scalar(90)));
+      csv += std::to_string(0.5 * n) + "," + name + "\n";
+      ++n;
+    }
+  }
+  test::write_text(s / "frames.csv", csv);
+  const auto out = dir / "camera.yaml";
+  const auto r = test::run_luxloc("calib camera --playback '" + s.string() + "' --interval 0.4 --out '" + out.string() +
+                                  "' --row-time-us 30");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  const std::size_t n_poses = poses().size();
+  CHECK(r.output.find(std::to_string(n_poses) + " images") != std::string::npos);  // one view per pose, repeats skipped
+  const CameraModel c = CameraModel::load(out.string());
+  CHECK(std::abs(c.fx / 600.0 - 1.0) < 0.005);
+  CHECK(std::abs(c.cx - 322.5) < 2.0);
+  CHECK(test::run_luxloc("calib camera --out '" + out.string() + "'").exit_code == 2);  // no input
+}
