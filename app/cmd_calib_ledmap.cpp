@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <unistd.h>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -54,11 +55,13 @@ DecodedSession decode_session(const std::string& dir, const LedMap& map, const s
   d.config = opened.session.config;
   if (!d.camera) throw InputError(dir, 0, "camera.yaml", "the session has no camera file (give --camera)");
   const StripeDecoder decoder(*d.camera, map);
+  const bool tty = isatty(fileno(stderr)) != 0;  // progress only on a terminal
   for (SourcePtr& src : opened.session.sources) {
     SensorData s;
     while (src->next(s)) {
       if (const auto* f = std::get_if<FrameSample>(&s)) {
-        ++d.frames;
+        if (tty && ++d.frames % 100 == 0) std::fprintf(stderr, "\rcalib ledmap: %zu frames decoded", d.frames);
+        if (!tty) ++d.frames;
         const std::vector<LedObservation> obs = decoder.decode(f->gray);
         d.blobs += obs.size();
         for (const LedObservation& o : obs) d.rejected += o.accepted() ? 0 : 1;
@@ -69,6 +72,7 @@ DecodedSession decode_session(const std::string& dir, const LedMap& map, const s
       }
     }
   }
+  if (tty && d.frames >= 100) std::fputc('\n', stderr);
   if (d.frames == 0) throw InputError(dir, 0, "frames.csv", "the session has no readable frames");
   return d;
 }

@@ -12,7 +12,11 @@
 #include "core/filter/motion_model.hpp"
 #include "core/imu/imu_calibration.hpp"
 #include "plugins/output/pose_file_sinks.hpp"
+#include "plugins/output/status_line.hpp"
 #include "plugins/output/udp_pose_sink.hpp"
+#include "core/pipeline/counting_stage.hpp"
+#include <unistd.h>
+#include <cstdio>
 #include "plugins/playback/playback_session.hpp"
 #include "plugins/record/session_recorder.hpp"
 #include "core/pipeline/tee_stage.hpp"
@@ -171,6 +175,10 @@ void add_run_options(CLI::App* sub, RunConfig& cfg) {
       ->check(CLI::Range(0.0, 1e6))
       ->capture_default_str();
   sub->add_flag("--no-uwb", [&cfg](std::int64_t) { cfg.uwb.enabled = false; }, "ignore UWB samples");
+  sub->add_option("--status", cfg.status,
+                  "one-line live status on stderr: auto (when stderr is a terminal), on, off")
+      ->check(CLI::IsMember({"auto", "on", "off"}))
+      ->capture_default_str();
   sub->add_flag("-q,--quiet", cfg.quiet, "no report on stderr");
 }
 
@@ -322,6 +330,15 @@ RunOutcome run_session(const RunConfig& cfg, std::ostream& log) {
   const std::string out = c.out.empty() && c.udp.empty() ? "-" : c.out;
   if (!out.empty()) sinks.push_back(make_pose_file_sink(out, parse_pose_format(c.format)));
   for (const auto& u : c.udp) sinks.push_back(std::make_unique<UdpPoseSink>(u));
+  // The live status line: on a terminal (or --status on), never into a pipe or a log file.
+  auto counters = std::make_shared<SampleCounters>(session.sources.size());
+  if (c.status == "on" || (c.status == "auto" && !c.quiet && isatty(fileno(stderr)) && out != "-")) {
+    std::vector<std::string> names;
+    for (const auto& src : session.sources) names.push_back(src->name());
+    TimeNs t_first = 0, t_last = 0;
+    const bool span = !c.playback.empty() && session_time_span(c.playback, t_first, t_last);
+    sinks.push_back(std::make_unique<StatusLine>(names, counters, span ? ns_to_seconds(t_last - t_first) : 0.0, t_first));
+  }
 
   FusionEngine engine(c.fusion, session.map, session.camera, session.config, c.uwb, c.vo);
   std::unique_ptr<SessionRecorder> recorder;
@@ -331,12 +348,14 @@ RunOutcome run_session(const RunConfig& cfg, std::ostream& log) {
   RunOutcome outcome;
   if (recorder) {
     TeeStage tee(*recorder, engine);
-    outcome.pipeline = run_with_stop_signals(pipeline, tee);
+    CountingStage counted(tee, counters);
+    outcome.pipeline = run_with_stop_signals(pipeline, counted);
     const RecorderStats st = recorder->stats();
     for (const auto& [file, n] : st.dropped)
       outcome.failures += "record: " + std::to_string(n) + " samples for " + file + " dropped (disk too slow)\n";
   } else {
-    outcome.pipeline = run_with_stop_signals(pipeline, engine);
+    CountingStage counted(engine, counters);
+    outcome.pipeline = run_with_stop_signals(pipeline, counted);
   }
   outcome.fusion = engine.stats();
   outcome.uwb = engine.uwb_stats();

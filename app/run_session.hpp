@@ -35,6 +35,7 @@ struct RunConfig {
   std::vector<std::string> clock_offsets;  // SOURCE=SECONDS
   bool quiet = false;
   std::string record;  // --record DIR: also write every input sample into a session folder
+  std::string status = "auto";  // live status line: auto (terminal) | on | off
 };
 
 struct RunOutcome {
