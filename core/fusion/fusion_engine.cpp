@@ -90,7 +90,8 @@ void FusionEngine::finish(std::vector<PoseEstimate>& out) {
     apply_frame(pending_frames_.front());
     pending_frames_.pop_front();
   }
-  if (filter_->initialized() && have_imu_) emit(t_imu_, out, true);
+  // The last IMU time, unless that pose is out already (no two poses share a time).
+  if (filter_->initialized() && have_imu_ && (!emitted_ || t_imu_ > t_last_emit_)) emit(t_imu_, out, true);
   stats_.motion = to_string(motion_.model());
   stats_.steps = motion_.steps();
   if (pf_) {

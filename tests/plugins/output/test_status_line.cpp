@@ -28,7 +28,7 @@ TEST_CASE("Status line: progress bar, per-source rates, LEDs, spread", "[io]") {
   CHECK(s.find("fused") != std::string::npos);
 }
 
-TEST_CASE("Status line: drawn in place with carriage returns, one newline at the end; session span", "[io]") {
+TEST_CASE("Status line: drawn in place with carriage returns, one newline at the end, session span", "[io]") {
   const auto dir = test::scratch_dir("status_line");
   std::FILE* f = std::fopen((dir / "err.txt").c_str(), "w");
   REQUIRE(f);
@@ -54,7 +54,7 @@ TEST_CASE("Status line: drawn in place with carriage returns, one newline at the
   CHECK(b == seconds_to_ns(12.25));
 }
 
-TEST_CASE("luxloc run --status on draws the status line; off by default into a pipe", "[io][app]") {
+TEST_CASE("luxloc run --status on draws the status line, off by default into a pipe", "[io][app]") {
   const std::string demo = std::string(LUXLOC_SOURCE_DIR) + "/data/demo-walk";
   const auto dir = test::scratch_dir("status_run");
   const auto on = test::run_luxloc("run --playback '" + demo + "' --out '" + (dir / "p.csv").string() + "' --status on");
