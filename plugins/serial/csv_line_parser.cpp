@@ -1,6 +1,7 @@
 #include "plugins/serial/csv_line_parser.hpp"
 
-#include <charconv>
+#include "plugins/serial/text_fields.hpp"
+
 #include <numbers>
 #include <cmath>
 #include <stdexcept>
@@ -21,15 +22,7 @@ std::vector<std::string_view> split(std::string_view line) {
   const bool delimited = line.find_first_of(",;") != std::string_view::npos;
   std::size_t i = 0;
   if (delimited) {
-    while (true) {
-      const std::size_t j = line.find_first_of(",;", i);
-      std::string_view s = line.substr(i, j == std::string_view::npos ? std::string_view::npos : j - i);
-      while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-      while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
-      f.push_back(s);
-      if (j == std::string_view::npos) break;
-      i = j + 1;
-    }
+    f = split_trimmed(line, ",;");
   } else {
     while (i < line.size()) {
       while (i < line.size() && (line[i] == ' ' || line[i] == '\t')) ++i;
@@ -41,12 +34,6 @@ std::vector<std::string_view> split(std::string_view line) {
     }
   }
   return f;
-}
-
-bool to_number(std::string_view s, double& v) {
-  if (!s.empty() && s.front() == '+') s.remove_prefix(1);
-  const auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-  return ec == std::errc() && p == s.data() + s.size() && std::isfinite(v);
 }
 
 }  // namespace
@@ -150,7 +137,7 @@ void CsvLineParser::on_line(std::string_view line, TimeNs t_arrival, std::vector
   ++lines_;
   const std::vector<std::string_view> f = split(line);
   double first = 0.0;
-  if (!to_number(f[0], first)) {
+  if (!parse_finite_number(f[0], first)) {
     // A header of known names sets the order unless one was configured.
     bool header = true;
     for (std::string_view n : f) header = header && (n == "_" || name_index(n) >= 0);
@@ -161,7 +148,7 @@ void CsvLineParser::on_line(std::string_view line, TimeNs t_arrival, std::vector
   }
   auto field = [&](int k, double& v) -> bool {
     const int c = col_[k];
-    return c >= 0 && c < static_cast<int>(f.size()) && to_number(f[c], v);
+    return c >= 0 && c < static_cast<int>(f.size()) && parse_finite_number(f[c], v);
   };
   ImuSample s;
   double v[10] = {};

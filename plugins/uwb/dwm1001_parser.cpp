@@ -2,6 +2,8 @@
 
 #include <charconv>
 
+#include "plugins/serial/text_fields.hpp"
+
 namespace luxloc {
 namespace {
 
@@ -33,8 +35,8 @@ bool Dwm1001Parser::parse_pos(const std::vector<std::string_view>& f, std::size_
   // POS,x,y,z,qf
   double x = 0, y = 0, z = 0;
   int q = 0;
-  if (f.size() != at + 5 || f[at] != "POS" || !parse_number(f[at + 1], x) || !parse_number(f[at + 2], y) ||
-      !parse_number(f[at + 3], z) || !parse_int(f[at + 4], q) || q < 0 || q > 100)
+  if (f.size() != at + 5 || f[at] != "POS" || !parse_finite_number(f[at + 1], x) || !parse_finite_number(f[at + 2], y) ||
+      !parse_finite_number(f[at + 3], z) || !parse_int(f[at + 4], q) || q < 0 || q > 100)
     return false;
   if (options_.emit_position && q >= options_.min_quality) {
     FixSample s;
@@ -61,7 +63,7 @@ void Dwm1001Parser::on_line(std::string_view line, TimeNs t, std::vector<SensorD
       drops_.add(uwb_drop::kBadLine, "broken DWM1001 line: '" + excerpt(line) + "'");
     return;
   }
-  const std::vector<std::string_view> f = split_fields(line);
+  const std::vector<std::string_view> f = split_trimmed(line, ",");
   if (pos) {
     if (!parse_pos(f, 0, t, out)) drops_.add(uwb_drop::kBadPosition, "unusable POS line: '" + excerpt(line) + "'");
     else ++records_;
@@ -79,8 +81,8 @@ void Dwm1001Parser::on_line(std::string_view line, TimeNs t, std::vector<SensorD
     UwbSample s;
     s.t = t;
     double x = 0, y = 0, z = 0;
-    if (f[b] != "AN" + std::to_string(i) || !parse_hex_id(f[b + 1], s.anchor) || !parse_number(f[b + 2], x) ||
-        !parse_number(f[b + 3], y) || !parse_number(f[b + 4], z) || !parse_number(f[b + 5], s.range_m) ||
+    if (f[b] != "AN" + std::to_string(i) || !parse_hex_id(f[b + 1], s.anchor) || !parse_finite_number(f[b + 2], x) ||
+        !parse_finite_number(f[b + 3], y) || !parse_finite_number(f[b + 4], z) || !parse_finite_number(f[b + 5], s.range_m) ||
         s.range_m < 0.0) {
       drops_.add(uwb_drop::kBadLine, "bad anchor block " + std::to_string(i) + " in '" + excerpt(line) + "'");
       return;

@@ -1,31 +1,8 @@
 #include "plugins/uwb/uwb_stream_parser.hpp"
 
-#include <charconv>
 #include <cmath>
 
 namespace luxloc {
-
-std::vector<std::string_view> split_fields(std::string_view line) {
-  std::vector<std::string_view> f;
-  std::size_t i = 0;
-  while (true) {
-    const std::size_t j = line.find(',', i);
-    std::string_view s = line.substr(i, j == std::string_view::npos ? std::string_view::npos : j - i);
-    while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-    while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
-    f.push_back(s);
-    if (j == std::string_view::npos) break;
-    i = j + 1;
-  }
-  return f;
-}
-
-bool parse_number(std::string_view s, double& v) {
-  if (!s.empty() && s.front() == '+') s.remove_prefix(1);
-  if (s.empty()) return false;
-  const auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-  return ec == std::errc() && p == s.data() + s.size() && std::isfinite(v);
-}
 
 void UwbStreamParser::feed(const std::uint8_t* data, std::size_t size, TimeNs t_end, double byte_ns,
                            std::vector<SensorData>& out) {

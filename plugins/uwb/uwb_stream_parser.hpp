@@ -48,9 +48,4 @@ class UwbStreamParser {
   std::uint64_t lines_ = 0;
 };
 
-// Splits on ',' keeping empty fields; trims spaces.
-std::vector<std::string_view> split_fields(std::string_view line);
-// Whole-field finite number ("+1.5", "-0.25"); false for "nan", "inf", garbage.
-bool parse_number(std::string_view s, double& v);
-
 }  // namespace luxloc
