@@ -1,8 +1,5 @@
 #include "plugins/serial/serial_imu_source.hpp"
 
-#include <fcntl.h>
-#include <poll.h>
-#include <unistd.h>
 
 #include <chrono>
 #include <cstdio>
@@ -10,7 +7,6 @@
 #include <thread>
 
 #include "core/common/input_error.hpp"
-#include "plugins/serial/monotonic_clock.hpp"
 
 namespace luxloc {
 namespace {
@@ -85,19 +81,13 @@ SerialImuOptions SerialImuOptions::from_spec(const SourceSpec& spec) {
   return o;
 }
 
-SerialImuSource::SerialImuSource(SerialImuOptions options) : options_(std::move(options)) {
-  int fds[2];
-  if (::pipe2(fds, O_NONBLOCK | O_CLOEXEC) != 0) throw std::runtime_error("cannot create the wake-up pipe");
-  wake_read_.reset(fds[0]);
-  wake_write_.reset(fds[1]);
-  try {
-    port_.emplace(options_.path, options_.baud);
-  } catch (const std::invalid_argument& e) {
-    throw InputError("--source", 0, "baud", e.what());
-  }
+SerialStreamOptions SerialImuOptions::stream() const {
+  return {path, baud, on_loss, reopen_interval_s, poll_timeout_ms, report_to_stderr};
+}
+
+SerialImuSource::SerialImuSource(SerialImuOptions options)
+    : options_(std::move(options)), stream_(options_.stream(), name(), drops()) {
   parser_ = make_parser();
-  byte_ns_ = 10.0 * 1e9 / options_.baud;  // start bit, 8 data bits, stop bit
-  buffer_.resize(4096);
 }
 
 std::unique_ptr<ImuStreamParser> SerialImuSource::make_parser() {
@@ -105,64 +95,23 @@ std::unique_ptr<ImuStreamParser> SerialImuSource::make_parser() {
   return std::make_unique<CsvLineParser>(drops(), options_.csv);
 }
 
-void SerialImuSource::request_stop() {
-  stop_.store(true);
-  const char b = 1;
-  [[maybe_unused]] const ssize_t n = ::write(wake_write_.get(), &b, 1);  // full pipe: already woken
-}
+void SerialImuSource::request_stop() { stream_.request_stop(); }
 
-std::string SerialImuSource::failure() const {
-  std::lock_guard lock(failure_mutex_);
-  return failure_;
-}
-
-bool SerialImuSource::reopen() {
-  port_.reset();
-  parser_->reset();
-  while (!stop_.load()) {
-    try {
-      port_.emplace(options_.path, options_.baud);
-      if (options_.report_to_stderr) std::fprintf(stderr, "luxloc: %s: device is back\n", name().c_str());
-      return true;
-    } catch (const std::exception&) {
-      // Not back yet: sleep on the wake-up pipe so a stop request is seen at once.
-    }
-    pollfd p{wake_read_.get(), POLLIN, 0};
-    ::poll(&p, 1, static_cast<int>(options_.reopen_interval_s * 1000));
-  }
-  return false;
-}
+std::string SerialImuSource::failure() const { return stream_.failure(); }
 
 bool SerialImuSource::next(SensorData& out) {
   while (true) {
-    if (stop_.load()) return false;
+    if (stream_.stopping()) return false;
     if (!ready_.empty()) {
       out = ready_.front();
       ready_.pop_front();
       ++samples_;
       return true;
     }
-    if (!port_) return false;
-    const ReadResult r = port_->read_some(buffer_.data(), buffer_.size(), options_.poll_timeout_ms, wake_read_.get());
-    if (r.status == ReadStatus::woken || r.status == ReadStatus::timeout) continue;
-    if (r.status == ReadStatus::closed) {
-      ++losses_;
-      const std::string what = name() + ": device lost (" + r.error + ")";
-      if (options_.on_loss == OnLoss::end) {
-        std::lock_guard lock(failure_mutex_);
-        failure_ = what;
-        port_.reset();
-        return false;
-      }
-      drops().add(serial_drop::kDeviceLost, what);
-      if (options_.report_to_stderr) std::fprintf(stderr, "luxloc: %s; waiting for it to come back\n", what.c_str());
-      if (!reopen()) return false;
-      continue;
-    }
-    const TimeNs t_end = monotonic_now_ns();
-    bytes_ += r.bytes;
+    if (!stream_.read([this] { parser_->reset(); })) return false;
+    bytes_ += stream_.size();
     parsed_.clear();
-    parser_->feed(buffer_.data(), r.bytes, t_end, byte_ns_, parsed_);
+    parser_->feed(stream_.bytes(), stream_.size(), stream_.arrival(), stream_.byte_ns(), parsed_);
     for (ImuSample& s : parsed_) {
       if (s.t < last_t_ + kMinStep) {
         s.t = last_t_ + kMinStep;

@@ -19,23 +19,20 @@
 //   csv:       columns (t:ax:ay:az:gx:gy:gz[:mx:my:mz], '_' skips), acc_unit (mps2|g),
 //              gyro_unit (rps|dps), mag_unit (ut|gauss|mgauss|nt), time (arrival|device),
 //              time_unit (s|ms|us)
-#include <atomic>
 #include <deque>
 #include <memory>
-#include <mutex>
-#include <optional>
 
 #include "core/pipeline/source.hpp"
 #include "plugins/serial/csv_line_parser.hpp"
 #include "plugins/serial/imu_axis_map.hpp"
 #include "plugins/serial/serial_port.hpp"
+#include "plugins/serial/serial_stream.hpp"
 #include "plugins/serial/witmotion_parser.hpp"
 #include "plugins/source_spec.hpp"
 
 namespace luxloc {
 
 enum class SerialProtocol { csv, witmotion };
-enum class OnLoss { end, wait };
 
 struct SerialImuOptions {
   std::string path;
@@ -51,6 +48,7 @@ struct SerialImuOptions {
 
   // From a parsed --source spec; throws InputError (field = the key) for bad values.
   static SerialImuOptions from_spec(const SourceSpec& spec);
+  SerialStreamOptions stream() const;
 };
 
 class SerialImuSource final : public Source {
@@ -67,27 +65,20 @@ class SerialImuSource final : public Source {
 
   std::uint64_t samples() const { return samples_; }
   std::uint64_t bytes() const { return bytes_; }
-  std::uint64_t losses() const { return losses_; }  // times the device went away
+  std::uint64_t losses() const { return stream_.losses(); }  // times the device went away
   std::uint64_t retimed() const { return retimed_; }  // stamps pushed forward to stay increasing
   const SerialImuOptions& options() const { return options_; }
 
  private:
   std::unique_ptr<ImuStreamParser> make_parser();
-  bool reopen();  // on_loss=wait: true once the port is back, false when stopped
 
   SerialImuOptions options_;
-  std::optional<SerialPort> port_;
+  SerialStream stream_;
   std::unique_ptr<ImuStreamParser> parser_;
-  UniqueFd wake_read_, wake_write_;
-  std::atomic<bool> stop_{false};
-  mutable std::mutex failure_mutex_;
-  std::string failure_;
   std::deque<ImuSample> ready_;
   std::vector<ImuSample> parsed_;
-  std::vector<std::uint8_t> buffer_;
-  double byte_ns_ = 0.0;
   TimeNs last_t_ = 0;
-  std::uint64_t samples_ = 0, bytes_ = 0, losses_ = 0, retimed_ = 0;
+  std::uint64_t samples_ = 0, bytes_ = 0, retimed_ = 0;
 };
 
 // The `serial-imu` kind for make_live_source.

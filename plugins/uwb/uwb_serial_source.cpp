@@ -1,8 +1,5 @@
 #include "plugins/uwb/uwb_serial_source.hpp"
 
-#include <fcntl.h>
-#include <poll.h>
-#include <unistd.h>
 
 #include <chrono>
 #include <cstdio>
@@ -10,7 +7,6 @@
 #include <thread>
 
 #include "core/common/input_error.hpp"
-#include "plugins/serial/monotonic_clock.hpp"
 #include "plugins/uwb/tof_aoa_line_parser.hpp"
 
 namespace luxloc {
@@ -53,19 +49,9 @@ UwbSerialOptions UwbSerialOptions::from_spec(const SourceSpec& spec) {
   return o;
 }
 
-UwbSerialSource::UwbSerialSource(UwbSerialOptions options) : options_(std::move(options)) {
-  int fds[2];
-  if (::pipe2(fds, O_NONBLOCK | O_CLOEXEC) != 0) throw std::runtime_error("cannot create the wake-up pipe");
-  wake_read_.reset(fds[0]);
-  wake_write_.reset(fds[1]);
-  try {
-    port_.emplace(options_.path, options_.baud);
-  } catch (const std::invalid_argument& e) {
-    throw InputError("--source", 0, "baud", e.what());
-  }
+UwbSerialSource::UwbSerialSource(UwbSerialOptions options)
+    : options_(std::move(options)), stream_(options_.stream(), name(), drops()) {
   parser_ = make_parser();
-  byte_ns_ = 10.0 * 1e9 / options_.baud;
-  buffer_.resize(4096);
   send_init();
 }
 
@@ -75,73 +61,37 @@ std::unique_ptr<UwbStreamParser> UwbSerialSource::make_parser() {
 }
 
 void UwbSerialSource::send_init() {
-  if (!options_.init_lec || !port_) return;
+  SerialPort* port = stream_.port();
+  if (!options_.init_lec || !port) return;
   // The DWM1001 enters its shell on two carriage returns within a second; it needs a
   // moment before it takes a command.
   static const std::uint8_t enter[] = {'\r', '\r'};
   static const std::uint8_t lec[] = {'l', 'e', 'c', '\r'};
-  port_->write_all(enter, sizeof enter);
+  port->write_all(enter, sizeof enter);
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
-  port_->write_all(lec, sizeof lec);
+  port->write_all(lec, sizeof lec);
 }
 
-void UwbSerialSource::request_stop() {
-  stop_.store(true);
-  const char b = 1;
-  [[maybe_unused]] const ssize_t n = ::write(wake_write_.get(), &b, 1);
-}
+void UwbSerialSource::request_stop() { stream_.request_stop(); }
 
-std::string UwbSerialSource::failure() const {
-  std::lock_guard lock(failure_mutex_);
-  return failure_;
-}
-
-bool UwbSerialSource::reopen() {
-  port_.reset();
-  parser_->reset();
-  while (!stop_.load()) {
-    try {
-      port_.emplace(options_.path, options_.baud);
-      if (options_.report_to_stderr) std::fprintf(stderr, "luxloc: %s: device is back\n", name().c_str());
-      send_init();
-      return true;
-    } catch (const std::exception&) {
-    }
-    pollfd p{wake_read_.get(), POLLIN, 0};
-    ::poll(&p, 1, static_cast<int>(options_.reopen_interval_s * 1000));
-  }
-  return false;
-}
+std::string UwbSerialSource::failure() const { return stream_.failure(); }
 
 bool UwbSerialSource::next(SensorData& out) {
   while (true) {
-    if (stop_.load()) return false;
+    if (stream_.stopping()) return false;
     if (!ready_.empty()) {
       out = std::move(ready_.front());
       ready_.pop_front();
       ++samples_;
       return true;
     }
-    if (!port_) return false;
-    const ReadResult r = port_->read_some(buffer_.data(), buffer_.size(), options_.poll_timeout_ms, wake_read_.get());
-    if (r.status == ReadStatus::woken || r.status == ReadStatus::timeout) continue;
-    if (r.status == ReadStatus::closed) {
-      ++losses_;
-      const std::string what = name() + ": device lost (" + r.error + ")";
-      if (options_.on_loss == OnLoss::end) {
-        std::lock_guard lock(failure_mutex_);
-        failure_ = what;
-        port_.reset();
-        return false;
-      }
-      drops().add(uwb_drop::kDeviceLost, what);
-      if (options_.report_to_stderr) std::fprintf(stderr, "luxloc: %s; waiting for it to come back\n", what.c_str());
-      if (!reopen()) return false;
-      continue;
-    }
-    const TimeNs t_end = monotonic_now_ns();
+    if (!stream_.read([this] {
+          parser_->reset();
+          send_init();
+        }))
+      return false;
     parsed_.clear();
-    parser_->feed(buffer_.data(), r.bytes, t_end, byte_ns_, parsed_);
+    parser_->feed(stream_.bytes(), stream_.size(), stream_.arrival(), stream_.byte_ns(), parsed_);
     for (SensorData& d : parsed_) {
       // Never decreasing (the ranges of one line share its time).
       std::visit([this](auto& s) {

@@ -14,15 +14,13 @@
 // Loss of the device: on_loss=end (default: next() returns false, failure() says why,
 // the CLI exits 1) or on_loss=wait (counted under "device lost", reopened every
 // reopen_interval_s), as serial-imu does.
-#include <atomic>
 #include <deque>
 #include <memory>
-#include <mutex>
-#include <optional>
 
 #include "core/pipeline/source.hpp"
 #include "plugins/serial/serial_imu_source.hpp"
 #include "plugins/serial/serial_port.hpp"
+#include "plugins/serial/serial_stream.hpp"
 #include "plugins/source_spec.hpp"
 #include "plugins/uwb/dwm1001_parser.hpp"
 
@@ -43,6 +41,7 @@ struct UwbSerialOptions {
 
   // From a parsed --source spec; throws InputError (field = the key) for bad values.
   static UwbSerialOptions from_spec(const SourceSpec& spec);
+  SerialStreamOptions stream() const { return {path, baud, on_loss, reopen_interval_s, poll_timeout_ms, report_to_stderr}; }
 };
 
 class UwbSerialSource final : public Source {
@@ -57,27 +56,20 @@ class UwbSerialSource final : public Source {
   std::string failure() const override;
 
   std::uint64_t samples() const { return samples_; }
-  std::uint64_t losses() const { return losses_; }
+  std::uint64_t losses() const { return stream_.losses(); }
   const UwbSerialOptions& options() const { return options_; }
 
  private:
   std::unique_ptr<UwbStreamParser> make_parser();
   void send_init();
-  bool reopen();
 
   UwbSerialOptions options_;
-  std::optional<SerialPort> port_;
+  SerialStream stream_;
   std::unique_ptr<UwbStreamParser> parser_;
-  UniqueFd wake_read_, wake_write_;
-  std::atomic<bool> stop_{false};
-  mutable std::mutex failure_mutex_;
-  std::string failure_;
   std::deque<SensorData> ready_;
   std::vector<SensorData> parsed_;
-  std::vector<std::uint8_t> buffer_;
-  double byte_ns_ = 0.0;
   TimeNs last_t_ = 0;
-  std::uint64_t samples_ = 0, losses_ = 0;
+  std::uint64_t samples_ = 0;
 };
 
 // The `uwb` kind for make_live_source.
