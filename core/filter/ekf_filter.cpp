@@ -130,7 +130,7 @@ CorrectionResult EkfFilter::update(int row, const Eigen::Vector2d& z, const Eige
 
 CorrectionResult EkfFilter::correct(const PositionMeasurement& m) {
   CorrectionResult r;
-  if (!m.z.allFinite() || !m.R.allFinite() || !(m.R.determinant() > 0.0) || !(m.R(0, 0) > 0.0)) {
+  if (!usable(m)) {
     ++rejected_;
     return r;
   }
@@ -156,7 +156,7 @@ CorrectionResult EkfFilter::correct(const PositionMeasurement& m) {
 }
 
 CorrectionResult EkfFilter::correct_velocity(const VelocityMeasurement& m) {
-  if (!initialized_ || !m.v.allFinite() || !m.R.allFinite() || !(m.R.determinant() > 0.0) || !(m.R(0, 0) > 0.0)) {
+  if (!initialized_ || !usable(m)) {
     ++rejected_;
     return {};
   }

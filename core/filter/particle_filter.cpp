@@ -367,7 +367,7 @@ double ParticleFilter::injection_probability() const {
 
 CorrectionResult ParticleFilter::correct(const PositionMeasurement& m) {
   CorrectionResult r;
-  if (!m.z.allFinite() || !m.R.allFinite() || !(m.R.determinant() > 0.0) || !(m.R(0, 0) > 0.0)) {
+  if (!usable(m)) {
     ++rejected_;
     return r;
   }
@@ -418,7 +418,7 @@ CorrectionResult ParticleFilter::correct(const PositionMeasurement& m) {
 
 CorrectionResult ParticleFilter::correct_velocity(const VelocityMeasurement& m) {
   CorrectionResult r;
-  if (!initialized_ || !m.v.allFinite() || !m.R.allFinite() || !(m.R.determinant() > 0.0) || !(m.R(0, 0) > 0.0)) {
+  if (!initialized_ || !usable(m)) {
     ++rejected_;
     return r;
   }

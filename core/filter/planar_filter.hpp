@@ -57,6 +57,15 @@ struct VelocityMeasurement {
   double gate_sigma = 6.0;
 };
 
+// A measurement a filter may use: finite value and a positive-definite covariance (checked
+// as a positive determinant and first diagonal element, enough for 2x2). Every filter refuses
+// (and counts) the others, so NaN from bad input never reaches a state.
+inline bool usable(const Eigen::Vector2d& value, const Eigen::Matrix2d& R) {
+  return value.allFinite() && R.allFinite() && R.determinant() > 0.0 && R(0, 0) > 0.0;
+}
+inline bool usable(const PositionMeasurement& m) { return usable(m.z, m.R); }
+inline bool usable(const VelocityMeasurement& m) { return usable(m.v, m.R); }
+
 struct CorrectionResult {
   bool accepted = false;
   bool reinitialized = false;  // the filter re-initialised around the fix (lost track)
