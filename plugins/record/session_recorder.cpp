@@ -5,12 +5,12 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
-#include <opencv2/core/persistence.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <limits>
 #include <stdexcept>
 
 #include "core/common/input_error.hpp"
+#include "plugins/playback/session_file.hpp"
 
 namespace luxloc {
 namespace {
@@ -140,17 +140,11 @@ SessionRecorder::SessionRecorder(fs::path dir, const std::optional<LedMap>& map,
       throw InputError((dir_ / existing).string(), 0, "--out", "the folder already holds a session: choose a new one");
   if (map) map->save((dir_ / "ledmap.yaml").string());
   if (camera) camera->save((dir_ / "camera.yaml").string());
-  {
-    cv::FileStorage fs((dir_ / "session.yaml").string(), cv::FileStorage::WRITE | cv::FileStorage::FORMAT_YAML);
-    if (!fs.isOpened()) throw InputError((dir_ / "session.yaml").string(), 0, "--out", "cannot write");
-    if (std::isfinite(config.device_height_m)) fs << "device_height_m" << config.device_height_m;
-    if (!config.anchors.empty()) {
-      fs << "anchors" << "[";
-      for (const UwbAnchor& a : config.anchors)
-        fs << "{:" << "id" << a.id << "x" << a.p_inW.x() << "y" << a.p_inW.y() << "z" << a.p_inW.z() << "}";
-      fs << "]";
-    }
-  }
+  // The recording's own files have SPEC's default names, whatever the source session used.
+  SessionConfig recorded;
+  recorded.device_height_m = config.device_height_m;
+  recorded.anchors = config.anchors;
+  save_session_config(recorded, (dir_ / "session.yaml").string());
   writer_->dir = dir_;
   writer_->png_compression = options_.png_compression;
   thread_ = std::thread([this] { writer_loop(); });
