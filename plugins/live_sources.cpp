@@ -34,6 +34,7 @@ void live_session_defaults(const SourceSpec& spec, LiveSessionDefaults& d) {
   if (!d.map) d.map = sc.map;
   if (!d.camera) d.camera = sc.camera;
   if (!std::isfinite(d.config.device_height_m)) d.config.device_height_m = sc.device_height_m;
+  if (d.config.anchors.empty()) d.config.anchors = sc.anchors;
 }
 
 }  // namespace luxloc

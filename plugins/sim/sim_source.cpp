@@ -1,6 +1,8 @@
 #include "plugins/sim/sim_source.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <limits>
 #include <stdexcept>
 
 #include "core/common/input_error.hpp"
@@ -35,7 +37,10 @@ SimSourceOptions SimSourceOptions::from_spec(const SourceSpec& spec) {
 SimSource::SimSource(SimSourceOptions options)
     : options_(std::move(options)),
       simulator_(sim::make_scenario(options_.scenario), options_.sim),
-      imu_(simulator_.imu_samples()) {}
+      imu_(simulator_.imu_samples()),
+      frames_(simulator_.scenario().frames ? simulator_.frame_count() : 0) {
+  for (const sim::SimUwbMeasurement& m : simulator_.uwb_measurements()) uwb_.push_back(m.sample);
+}
 
 void SimSource::request_stop() {
   {
@@ -57,24 +62,27 @@ bool SimSource::wait_until(TimeNs t) {
 
 bool SimSource::next(SensorData& out) {
   if (t0_ < 0) t0_ = monotonic_now_ns();
-  const std::size_t n_frames = simulator_.frame_count();
-  // The next sample in time order: IMU sample or frame (a frame's time is its row 0's
-  // exposure start, as in frames.csv).
-  const TimeNs t_imu = next_imu_ < imu_.size() ? imu_[next_imu_].t : std::numeric_limits<TimeNs>::max();
-  const TimeNs t_frame = next_frame_ < n_frames ? seconds_to_ns(simulator_.frame_time_s(next_frame_))
-                                                : std::numeric_limits<TimeNs>::max();
-  if (t_imu == std::numeric_limits<TimeNs>::max() && t_frame == std::numeric_limits<TimeNs>::max()) return false;
-  if (t_imu <= t_frame) {
-    if (!wait_until(t0_ + t_imu)) return false;
+  constexpr TimeNs kNone = std::numeric_limits<TimeNs>::max();
+  // The next sample in time order: IMU sample, frame (its time is its row 0's exposure
+  // start, as in frames.csv) or UWB measurement.
+  const TimeNs t_imu = next_imu_ < imu_.size() ? imu_[next_imu_].t : kNone;
+  const TimeNs t_frame = next_frame_ < frames_ ? seconds_to_ns(simulator_.frame_time_s(next_frame_)) : kNone;
+  const TimeNs t_uwb = next_uwb_ < uwb_.size() ? uwb_[next_uwb_].t : kNone;
+  const TimeNs t = std::min({t_imu, t_frame, t_uwb});
+  if (t == kNone || !wait_until(t0_ + t)) return false;
+  if (t == t_imu) {
     ImuSample s = imu_[next_imu_++];
     s.t += t0_;
     out = std::move(s);
-  } else {
-    if (!wait_until(t0_ + t_frame)) return false;
+  } else if (t == t_frame) {
     FrameSample f;
     f.t = t0_ + t_frame;
     f.gray = simulator_.render(next_frame_++).gray;
     out = std::move(f);
+  } else {
+    UwbSample u = uwb_[next_uwb_++];
+    u.t += t0_;
+    out = std::move(u);
   }
   return true;
 }

@@ -1,13 +1,16 @@
 #pragma once
 // `sim:SCENARIO[,seed=..,duration=..,fps=..,realtime=1|0]`: the simulator (core/sim) as a
-// live source — one stream of IMU samples and rolling-shutter frames in time order, each
+// live source — one stream of what `luxloc sim` would write for the scenario (IMU samples,
+// camera frames where the scenario has a camera, UWB measurements where it has anchors), in
+// time order, each
 // emitted when the wall clock reaches it (realtime=0: as fast as the consumer takes them).
 // Demos and tests of the live path without hardware: `luxloc run --source sim:walk`,
 // `luxloc record --source sim:walk --out DIR`.
 //
 // Timestamps are CLOCK_MONOTONIC ns at the start of the run plus the simulated time, the
 // timeline every live source shares. The scenario's LED map, camera and device height are
-// what the run uses unless --map / --camera say otherwise (live_session_defaults()).
+// what the run uses unless --map / --camera say otherwise, and its UWB anchors
+// (live_session_defaults()).
 #include <atomic>
 #include <condition_variable>
 #include <memory>
@@ -44,7 +47,9 @@ class SimSource final : public Source {
   SimSourceOptions options_;
   sim::Simulator simulator_;
   std::vector<ImuSample> imu_;
-  std::size_t next_imu_ = 0, next_frame_ = 0;
+  std::vector<UwbSample> uwb_;
+  std::size_t frames_ = 0;  // 0 when the scenario has no camera
+  std::size_t next_imu_ = 0, next_frame_ = 0, next_uwb_ = 0;
   TimeNs t0_ = -1;  // monotonic time of simulated t = 0, set at the first next()
   std::mutex mutex_;
   std::condition_variable wake_;

@@ -36,6 +36,28 @@ TEST_CASE("sim: source emits the simulator's IMU and frames in time order", "[si
   CHECK(src.live());
 }
 
+TEST_CASE("sim: a UWB scenario streams its UWB measurements and no frames, like luxloc sim writes it", "[sim]") {
+  SimSource src(SimSourceOptions::from_spec(SourceSpec::parse("sim:uwb,duration=2,realtime=0")));
+  const auto want = src.simulator().uwb_measurements();
+  std::size_t imu = 0, uwb = 0, frames = 0;
+  TimeNs last = -1;
+  SensorData d;
+  while (src.next(d)) {
+    CHECK(sample_time(d) >= last);
+    last = sample_time(d);
+    imu += std::holds_alternative<ImuSample>(d);
+    frames += std::holds_alternative<FrameSample>(d);
+    if (const auto* u = std::get_if<UwbSample>(&d)) {
+      CHECK(u->range_m == want[uwb].sample.range_m);
+      ++uwb;
+    }
+  }
+  CHECK(imu == 200);
+  CHECK(frames == 0);
+  CHECK(uwb == want.size());
+  CHECK(uwb > 10);
+}
+
 TEST_CASE("sim: paced source stops on request, bad specs are input errors", "[sim]") {
   SimSource src(SimSourceOptions::from_spec(SourceSpec::parse("sim:static,duration=30")));
   std::thread stopper([&] {
