@@ -290,14 +290,28 @@ std::vector<LedObservation> StripeDecoder::decode(const cv::Mat& input) const {
       // unless chords with both ends are seen, has its centre in the image; its extent may
       // pass the bright rows by one dark stripe, or more where the border cuts the blob.
       int two_sided = 0;
-      for (const auto& re : S.rows) two_sided += (re.left_ok && re.right_ok) ? 1 : 0;
+      double band_top = 1e300, band_bot = -1e300;
+      for (const auto& re : S.rows)
+        if (re.left_ok && re.right_ok) {
+          ++two_sided;
+          band_top = std::min(band_top, static_cast<double>(re.v));
+          band_bot = std::max(band_bot, static_cast<double>(re.v));
+        }
+      // One bright stripe across the middle of the disc pins only 4 sectors (the sides,
+      // +-25 degrees), yet a sharp fit through it holds: its chords are two-sided and the
+      // widest one lies inside the band (the fit interpolates the centre row, and the
+      // chord widths' curvature gives the size). Other 4-sector arcs are not trusted.
+      const int sectors = el.arc_sectors(S.edge_pts);
+      const double rms = el.rms_residual(S.edge_pts);
+      const bool pinned = sectors >= 5 || (sectors == 4 && two_sided >= o.min_band_rows && rms <= o.max_band_rms_px &&
+                                           el.axis_ratio() >= o.min_band_axis_ratio &&
+                                           el.centre().y() >= band_top && el.centre().y() <= band_bot);
       const Eigen::Vector2d& c = el.centre();
       const bool centre_in = c.x() >= 0 && c.x() <= W - 1 && c.y() >= 0 && c.y() <= H - 1;
       const double slack = closing_rows_ + 2.0;
       const bool cut_top = r0 - slack <= 0, cut_bot = r1 + slack >= H - 1;
       const bool cut_left = c0 <= 1, cut_right = c1 >= W - 2;
-      trusted = el.rms_residual(S.edge_pts) <= std::max(o.max_edge_rms_px, 0.05 * el.radius()) &&
-                el.axis_ratio() >= o.min_axis_ratio && el.arc_sectors(S.edge_pts) >= 5 &&
+      trusted = rms <= std::max(o.max_edge_rms_px, 0.05 * el.radius()) && el.axis_ratio() >= o.min_axis_ratio && pinned &&
                 (two_sided >= 3 || centre_in) && (cut_top || el.top() >= r0 - slack) &&
                 (cut_bot || el.bottom() <= r1 + slack) && (cut_left || c.x() >= c0 - 1) &&
                 (cut_right || c.x() <= c1 + 1) && (cut_top || c.y() >= r0 - slack) &&
@@ -461,11 +475,15 @@ std::vector<LedObservation> StripeDecoder::decode(const cv::Mat& input) const {
 
     // Short blobs: the stripe edges rather than the periodogram (see min_edge_periods).
     bool by_edges = false;
+    const double est_periods = est.span_rows * est.cycles_per_row;
     if (est.valid && trusted && common_duty_ > 0 && o.min_edge_periods > 0 &&
-        est.span_rows * est.cycles_per_row < o.min_periods) {
+        est_periods < std::max(o.min_periods, o.edge_preferred_periods)) {
       const EdgePeriodEstimate ep =
           estimate_period_from_edges(S.value, S.weight, common_duty_, min_period_rows_, max_period_rows_);
-      if (ep.valid && est.span_rows >= o.min_edge_periods * ep.period_rows) {
+      // Under min_periods the edges are the only estimate; between it and
+      // edge_preferred_periods they replace the periodogram's when three or more agree.
+      if (ep.valid && est.span_rows >= o.min_edge_periods * ep.period_rows &&
+          (est_periods < o.min_periods || ep.edges >= 3)) {
         by_edges = true;
         obs.period_rows = ep.period_rows;
         obs.period_sigma_rows = ep.period_sigma_rows;

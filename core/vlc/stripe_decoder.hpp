@@ -43,6 +43,12 @@ struct StripeDecoderOptions {
   double plateau_fraction = 0.9;    // ... and this fraction of the brightest row within +-2 rows
   double max_edge_rms_px = 1.5;     // ellipse fit residual (px, or 5 % of the radius) above which the blob is "soft"
   double min_axis_ratio = 0.35;     // thinner ellipse fits (slivers cut by the border) are not trusted
+  // An ellipse pinned by only 4 sectors (one bright stripe across the disc's middle) is
+  // trusted when it has this many two-sided chords, fits them this well, is this round,
+  // and its centre row lies among them.
+  int min_band_rows = 8;
+  double max_band_rms_px = 0.35;
+  double min_band_axis_ratio = 0.6;
   double max_outside_fraction = 0.05;  // bright pixels beyond the ellipse: "overlapping blobs" above
   // --- stripe profile and period ---
   double profile_chord_fraction = 0.6;  // central fraction of each row's chord averaged into the profile
@@ -57,6 +63,10 @@ struct StripeDecoderOptions {
   // estimate) are measured by their stripe edges instead (estimate_period_from_edges);
   // sharp blobs only, and only when all LEDs of the map share one duty. 0 = off.
   double min_edge_periods = 1.0;
+  // Under this many periods a square wave's harmonics still bias the periodogram's
+  // sinusoid by a few percent (1.8 periods: 4 %); there three or more agreeing stripe
+  // edges give the period instead.
+  double edge_preferred_periods = 2.5;
   double min_explained = 0.3;           // periodic share of the profile variance: below = "no stripes"
   double min_peak_to_sidelobe = 1.5;    // below: "ambiguous frequency"
   StripePeriodOptions period{};

@@ -92,6 +92,27 @@ TEST_CASE("simulated dense walk (1-4 whole LEDs in view): >= 99.5 % of full blob
   CHECK(c.wrong_fraction() <= 0.001);
 }
 
+TEST_CASE("simulated plain walk (LEDs 2 m up, 33-row stripes on 46-row discs): >= 99.5 % of full blobs right", "[vlc][sim]") {
+  // The default walk: one or two LEDs in view, the 1000 Hz LED's disc shows 1.4 periods
+  // and often a single bright stripe (seconds 19-21 are such a pass under LEDs 1 and 2).
+  sim::SimOptions o;
+  o.seed = 11;
+  o.duration_s = 22.0;
+  const sim::Simulator s(sim::make_scenario("walk"), o);
+  const StripeDecoder decoder(s.scenario().camera, s.scenario().map);
+  IdCheckCounts c;
+  for (std::size_t k = 0; k < s.frame_count(); ++k) {
+    const sim::RenderedFrame f = s.render(k);
+    tally_ids(decoder.decode(f.gray), truth_of(f), c);
+  }
+  INFO(c.qualifying << " qualifying, " << c.right << " right, " << c.decodes << " decodes, " << c.wrong << " wrong");
+  for (const auto& [why, n] : c.missed_by) INFO("missed " << why << ": " << n);
+  for (const auto& [id, n] : c.missed_by_id) INFO("missed LED " << id << ": " << n);
+  CHECK(c.qualifying > 500);
+  CHECK(c.right_fraction() >= 0.995);
+  CHECK(c.wrong_fraction() <= 0.001);
+}
+
 TEST_CASE("a dark frame yields no LED: blackout frames and an all-black image", "[vlc][sim]") {
   sim::SimOptions o;
   o.seed = 3;

@@ -193,6 +193,33 @@ TEST_CASE("decoder: short blobs are measured by their stripe edges, a 3rd harmon
   CHECK(big[0].led_id == 10);
 }
 
+TEST_CASE("decoder: one bright stripe across the disc, or under two periods, is measured by its edges", "[vlc]") {
+  // 1200 Hz at 25 us/row: a 33-row period on a 46-row disc. At some phases a single bright
+  // stripe crosses the middle and the rest of the disc is dark: its chord ends pin only 4
+  // boundary sectors, yet the sharp fit holds and the stripe's width (duty x period) gives
+  // the LED. At 1500 Hz (27 rows) the same disc shows 1.7 periods, where the periodogram's
+  // sinusoid is biased by the square wave's harmonics; three stripe edges are not.
+  const CameraModel cam = test_camera();
+  const LedMap map = test_map();
+  const StripeDecoder dec(cam, map);
+  std::mt19937_64 rng(9);
+  for (const double f : {1200.0, 1500.0}) {
+    int identified = 0, wrong = 0;
+    for (int k = 0; k < 20; ++k) {
+      const auto obs = dec.decode(render(cam, {{{320.3, 240.6}, 23, 23, 0, f, 0.5, 0.05 * k}}, 1.5, rng));
+      REQUIRE(obs.size() == 1);
+      INFO("f " << f << " phase " << 0.05 * k << ": " << obs[0].freq_hz << " Hz " << obs[0].reject_reason);
+      if (!obs[0].accepted()) continue;
+      ++identified;
+      if (map.leds()[static_cast<std::size_t>(obs[0].led_index)].freq_hz != f) ++wrong;
+      CHECK(std::abs(obs[0].freq_hz - f) < 0.02 * f);
+    }
+    INFO("f " << f << ": " << identified << " of 20 phases identified");
+    CHECK(wrong == 0);
+    CHECK(identified >= 19);
+  }
+}
+
 TEST_CASE("decoder: a frequency not in the map is rejected", "[vlc]") {
   const CameraModel cam = test_camera();
   const StripeDecoder dec(cam, test_map());
