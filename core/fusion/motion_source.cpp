@@ -55,13 +55,15 @@ MotionInput MotionSource::input(TimeNs t0, TimeNs t1) {
         regime_ = MotionRegime::strapdown;
         break;
       }
-      // Walking (gait speed), or standing still (zero velocity). Coming from another
-      // regime, the distance up to t0 is already covered: no catch-up for it.
-      if (regime_ != MotionRegime::gait) gait_.sync();
+      // Walking (gait speed), or standing still. Coming from strapdown (or cv), the
+      // distance up to t0 is already covered: no catch-up for it. Standing still after a
+      // walk, the servo still pays out what the walk's last steps owe: they are confirmed
+      // 0.3 s after their heel strikes, often after the bounce has died (dropping it lost
+      // ~0.2 m along the walk at every stop).
+      if (regime_ != MotionRegime::gait && regime_ != MotionRegime::still) gait_.sync();
       regime_ = stepping ? MotionRegime::gait : MotionRegime::still;
       u.has_gait = true;
-      u.gait.speed_mps = stepping ? gait_.take_speed(t0, t1) : 0.0;
-      if (!stepping) gait_.sync();
+      u.gait.speed_mps = gait_.take_speed(t0, t1);
       u.gait.heading_rad = heading_rad_;
       u.gait.step_period_s = gait_.step_period_s();
       // Per-step noise only while walking (standing still has no step to be wrong about).
