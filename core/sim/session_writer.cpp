@@ -206,7 +206,6 @@ SessionSummary write_session(const Simulator& sim, const fs::path& dir, const Se
   s.steps = write_steps(sim, dir / "steps.csv");
   if (!sim.scenario().map.empty()) sim.scenario().map.save((dir / "ledmap.yaml").string());
   else fs::remove(dir / "ledmap.yaml", ec);  // no stale map from an earlier run
-  if (!sim.scenario().start_fix) fs::remove(dir / "fixes.csv", ec);
   if (sim.scenario().start_fix) {  // relative navigation starts from a known point
     const BodyState s0 = sim.truth(0.0);
     File f = open_out(dir / "fixes.csv");
@@ -216,12 +215,12 @@ SessionSummary write_session(const Simulator& sim, const fs::path& dir, const Se
   sim.scenario().camera.save((dir / "camera.yaml").string());
   write_session_yaml(sim, dir / "session.yaml");
   write_sim_truth(sim, dir / "sim_truth.yaml");
-  s.files = 7;
+  s.files = sim.scenario().start_fix ? 8 : 7;
   if (options.fixes_rate_hz > 0.0) {
     if (!(options.fixes_sigma_m > 0.0)) throw std::invalid_argument("fixes_sigma_m must be > 0");
     s.fixes = write_fixes(sim, dir / "fixes.csv", options.fixes_rate_hz, options.fixes_sigma_m);
     ++s.files;
-  } else {
+  } else if (!sim.scenario().start_fix) {  // the start fix written above stays
     fs::remove(dir / "fixes.csv", ec);
   }
   if (!sim.scenario().anchors.empty()) {
