@@ -9,13 +9,15 @@
 // fit (ChordEllipse: the envelope centre, valid at any camera roll and for blobs cut by the
 // border; soft blobs fall back to the intensity centroid), per-row mean over the central
 // chord -> stripe profile (log for soft blobs) -> period (estimate_stripe_period; for sharp
-// blobs under min_periods stripe periods, estimate_period_from_edges) -> map match with
+// blobs under min_periods stripe periods, or under edge_preferred_periods with 3+ agreeing
+// edges, estimate_period_from_edges) -> map match with
 // tolerance and ambiguity margin. It rejects rather than guesses: too narrow,
 // overlapping blobs, too few rows or stripe periods, no stripes, ambiguous frequency, no
 // map match. Single threaded (no internal parallelism); buffers are reused per thread.
 //
 // Measured (tests [vlc]): fixture spec-sample 397/397 fully visible LEDs identified, 0 wrong;
 // rendered frames (50-300 us exposures, any roll) >= 99.5 % identified, 0 wrong in ~5000;
+// simulated walk and dense sessions (90 s) 100 % of whole blobs >= 20 rows, 0 wrong;
 // 0.5 ms per 640x480 frame with 4 LEDs on one core (luxloc_bench).
 #include <opencv2/core/mat.hpp>
 #include <vector>
