@@ -1,5 +1,6 @@
 #include "core/sim/session_writer.hpp"
 
+#include "core/common/session_file.hpp"
 #include "core/sim/seeding.hpp"
 
 #include <atomic>
@@ -85,15 +86,10 @@ std::size_t write_fixes(const Simulator& sim, const fs::path& p, double rate_hz,
 }
 
 void write_session_yaml(const Simulator& sim, const fs::path& p) {
-  cv::FileStorage fs(p.string(), cv::FileStorage::WRITE | cv::FileStorage::FORMAT_YAML);
-  if (!fs.isOpened()) throw std::runtime_error("cannot write " + p.string());
-  fs << "device_height_m" << sim.scenario().device_height_m;
-  if (!sim.scenario().anchors.empty()) {
-    fs << "anchors" << "[";
-    for (const UwbAnchor& a : sim.scenario().anchors)
-      fs << "{:" << "id" << a.id << "x" << a.p_inW.x() << "y" << a.p_inW.y() << "z" << a.p_inW.z() << "}";
-    fs << "]";
-  }
+  SessionConfig c;
+  c.device_height_m = sim.scenario().device_height_m;
+  c.anchors = sim.scenario().anchors;
+  save_session_config(c, p.string());  // the one writer of session.yaml (recorder, sim)
 }
 
 // uwb.csv (SPEC.md) plus the truth the filter must not see: nlos (0/1) and true_range_m

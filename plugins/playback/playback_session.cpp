@@ -5,7 +5,7 @@
 #include "plugins/playback/frame_list_source.hpp"
 #include "plugins/playback/imu_csv_source.hpp"
 #include "plugins/playback/odom_csv_source.hpp"
-#include "plugins/playback/session_file.hpp"
+#include "core/common/session_file.hpp"
 #include "plugins/playback/uwb_csv_source.hpp"
 
 namespace luxloc {

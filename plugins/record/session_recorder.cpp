@@ -10,7 +10,7 @@
 #include <stdexcept>
 
 #include "core/common/input_error.hpp"
-#include "plugins/playback/session_file.hpp"
+#include "core/common/session_file.hpp"
 
 namespace luxloc {
 namespace {

@@ -6,7 +6,7 @@
 #include "core/common/csv_reader.hpp"
 #include "core/eval/trajectory_io.hpp"
 #include "core/eval/trajectory_metrics.hpp"
-#include "plugins/playback/session_file.hpp"
+#include "core/common/session_file.hpp"
 #include "test_support.hpp"
 
 using namespace luxloc;

@@ -12,7 +12,7 @@
 #include "core/sim/frame_renderer.hpp"
 #include "core/vlc/camera_geometry_fix.hpp"
 #include "core/vlc/stripe_decoder.hpp"
-#include "plugins/playback/session_file.hpp"
+#include "core/common/session_file.hpp"
 #include "test_support.hpp"
 
 using namespace luxloc;

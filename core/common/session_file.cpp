@@ -1,4 +1,4 @@
-#include "plugins/playback/session_file.hpp"
+#include "core/common/session_file.hpp"
 
 #include <cmath>
 #include <filesystem>
