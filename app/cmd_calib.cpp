@@ -4,6 +4,8 @@
 //           orientations (SEEDS.md C.4) -> the YAML that `imu` and `run` take with --imu-calib.
 //   camera  chessboard images -> Zhang calibration with bad-view rejection -> camera.yaml
 //           (SPEC.md "Camera file"), rolling-shutter row time as entered.
+//   rowtime (app/cmd_calib_rowtime.cpp) and ledmap (app/cmd_calib_ledmap.cpp) register
+//           themselves through commands.hpp.
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -16,6 +18,7 @@
 #include <vector>
 
 #include "app/commands.hpp"
+#include "app/image_folder.hpp"
 #include "app/run_session.hpp"
 #include "calib/camera_calibrator.hpp"
 #include "calib/imu_calibrator.hpp"
@@ -186,17 +189,7 @@ int run_calib_camera(const CalibCameraArgs& a) {
   std::vector<std::string> names;
   const std::string origin = !a.images.empty() ? a.images : !a.playback.empty() ? a.playback : "--source";
   if (!a.images.empty()) {
-    std::vector<fs::path> files;
-    for (const fs::directory_entry& e : fs::directory_iterator(a.images)) {
-      std::string ext = e.path().extension().string();
-      std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-      if (e.is_regular_file() && (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp" || ext == ".tif" ||
-                                  ext == ".tiff" || ext == ".pgm" || ext == ".ppm"))
-        files.push_back(e.path());
-    }
-    std::sort(files.begin(), files.end());
-    if (files.empty()) throw InputError(a.images, 0, "--images", "no image files (png, jpg, bmp, tif, pgm) in the folder");
-    for (const fs::path& f : files) {
+    for (const fs::path& f : image_files(a.images)) {
       cv::Mat g = cv::imread(f.string(), cv::IMREAD_GRAYSCALE);
       if (g.empty()) std::fprintf(stderr, "luxloc: %s: not a readable image, skipped\n", f.string().c_str());
       images.push_back(g);
@@ -273,11 +266,12 @@ void add_calib_camera(CLI::App& calib, Action& action) {
 }  // namespace
 
 void add_calib_command(CLI::App& root, Action& action) {
-  CLI::App* calib = root.add_subcommand("calib", "calibration tools: imu, camera, ledmap");
+  CLI::App* calib = root.add_subcommand("calib", "calibration tools: imu, camera, rowtime, ledmap");
   calib->require_subcommand(1);
   add_calib_imu(*calib, action);
   add_calib_camera(*calib, action);
   add_calib_ledmap(*calib, action);
+  add_calib_rowtime(*calib, action);
 }
 
 }  // namespace luxloc::app

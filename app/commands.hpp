@@ -20,6 +20,8 @@ void add_compare_command(CLI::App& root, Action& action);
 void add_record_command(CLI::App& root, Action& action);
 // `calib ledmap` (app/cmd_calib_ledmap.cpp), registered under `calib`.
 void add_calib_ledmap(CLI::App& calib, Action& action);
+// `calib rowtime` (app/cmd_calib_rowtime.cpp), registered under `calib`.
+void add_calib_rowtime(CLI::App& calib, Action& action);
 void add_devices_command(CLI::App& root, Action& action);
 void add_vlc_command(CLI::App& root, Action& action);
 

@@ -10,6 +10,7 @@
 
 #include "core/vlc/blob_segmenter.hpp"
 #include "core/vlc/chord_ellipse.hpp"
+#include "core/vlc/frame_levels.hpp"
 
 namespace luxloc {
 namespace {
@@ -32,36 +33,6 @@ struct Scratch {
 Scratch& scratch() {
   thread_local Scratch s;
   return s;
-}
-
-struct FrameLevels {
-  double background = 0.0, noise = 1.0, threshold = 16.0;
-};
-
-// Median and upper 1-sigma spread of a sub-sampled histogram: robust to the few LED
-// pixels, and to a black level clipped at 0.
-FrameLevels frame_levels(const cv::Mat& g, const StripeDecoderOptions& o) {
-  std::array<int, 256> hist{};
-  const int sr = std::max(1, g.rows / 120), sc = std::max(1, g.cols / 160);
-  int n = 0;
-  for (int r = sr / 2; r < g.rows; r += sr) {
-    const uchar* p = g.ptr<uchar>(r);
-    for (int c = sc / 2; c < g.cols; c += sc, ++n) ++hist[p[c]];
-  }
-  auto quantile = [&](double q) {
-    const double target = q * n;
-    int acc = 0;
-    for (int i = 0; i < 256; ++i) {
-      acc += hist[static_cast<std::size_t>(i)];
-      if (acc >= target) return i;
-    }
-    return 255;
-  };
-  FrameLevels lv;
-  lv.background = quantile(0.5);
-  lv.noise = std::max(0.5, static_cast<double>(quantile(0.8413) - quantile(0.5)));
-  lv.threshold = lv.background + std::max(o.min_contrast_dn, o.threshold_sigma * lv.noise);
-  return lv;
 }
 
 // Pixel source for one blob: bright pixels of other blobs read as background.
@@ -177,7 +148,7 @@ std::vector<LedObservation> StripeDecoder::decode(const cv::Mat& input) const {
   const cv::Mat& gray = *gp;
   const int H = gray.rows, W = gray.cols;
   const StripeDecoderOptions& o = options_;
-  const FrameLevels lv = frame_levels(gray, o);
+  const FrameLevels lv = frame_levels(gray, o.min_contrast_dn, o.threshold_sigma);
   const double bg = lv.background, thr = lv.threshold;
   S.segmenter.segment(gray, thr, closing_rows_, o.min_blob_pixels);
 
