@@ -226,7 +226,7 @@ int run_calib_camera(const CalibCameraArgs& a) {
       std::printf("    %-24s %.3f px%s\n", v.name.c_str(), v.rms_px, v.used ? "" : "  REJECTED");
   }
   if (a.row_time_us <= 0.0)
-    std::printf("  note: --row-time-us not given: row_time_us %.1f written (a placeholder: measure it for VLC)\n",
+    std::printf("  note: --row-time-us not given: row_time_us %.1f written (a placeholder: measure it with `luxloc calib rowtime`)\n",
                 r.camera.row_time_s * 1e6);
   std::printf("  -> %s\n", a.out.c_str());
   std::fflush(stdout);
@@ -246,8 +246,8 @@ void add_calib_camera(CLI::App& calib, Action& action) {
   cmd->add_option("--board", args->board, "inner corners COLSxROWS")->capture_default_str();
   cmd->add_option("--square", args->square_m, "square side, m")->check(CLI::PositiveNumber)->capture_default_str();
   cmd->add_option("--out", args->out, "camera.yaml to write (SPEC.md camera file)")->required();
-  cmd->add_option("--row-time-us", args->row_time_us, "rolling-shutter line readout time, us (measured or from the "
-                                                      "sensor data sheet; ~1e6 / (fps * total lines)); default 30")
+  cmd->add_option("--row-time-us", args->row_time_us, "rolling-shutter line readout time, us (measured with `calib rowtime`, "
+                                                      "or ~1e6 / (fps * total lines)); default 30")
       ->check(CLI::Range(0.0, 1000.0))
       ->capture_default_str();
   cmd->add_option("--exposure-us", args->exposure_us, "exposure time the VLC frames use, us; default 100")
