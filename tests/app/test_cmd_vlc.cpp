@@ -7,6 +7,7 @@
 #include <regex>
 
 #include "core/common/csv_reader.hpp"
+#include "core/vlc/camera_model.hpp"
 #include "test_support.hpp"
 
 using namespace luxloc;
@@ -115,4 +116,26 @@ TEST_CASE("luxloc vlc: true attitude, no ground truth, bad usage", "[vlc][app]")
   r = test::run_luxloc("vlc --playback '" + bare.string() + "' --duration 1");
   CHECK(r.exit_code == 0);
   CHECK_THAT(r.output, Catch::Contains("frames 30"));
+}
+
+TEST_CASE("luxloc vlc: a row time 2 % short shows as frequencies 2 % high, with the likely row time", "[vlc][app]") {
+  const auto dir = dense_session("cmd_vlc_row_time");
+  auto r = test::run_luxloc("vlc --playback '" + dir.string() + "' --duration 5");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  CHECK(std::abs(figure(r.output, "frequency scale: decoded / map") - 1.0) < 0.003);
+  CHECK_THAT(r.output, !Catch::Contains("calib rowtime"));  // right row time: no hint
+  // The same frames with camera.yaml's row time 2 % short (29.4 us for the simulator's 30).
+  CameraModel cam = CameraModel::load((dir / "camera.yaml").string());
+  const double true_row_time_us = cam.row_time_s * 1e6;
+  cam.row_time_s *= 0.98;
+  const auto short_cam = dir / "camera_short.yaml";
+  cam.save(short_cam.string());
+  r = test::run_luxloc("vlc --playback '" + dir.string() + "' --duration 5 --camera '" + short_cam.string() + "'");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  const double scale = figure(r.output, "frequency scale: decoded / map");
+  CHECK(scale == Approx(1.0 / 0.98).epsilon(0.004));
+  CHECK_THAT(r.output, Catch::Contains("high: camera.yaml's row_time_us") && Catch::Contains("luxloc calib rowtime"));
+  CHECK(figure(r.output, "is probably") == Approx(true_row_time_us).epsilon(0.004));
 }
