@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <opencv2/imgproc.hpp>
 #include <stdexcept>
 
 #include "core/vlc/frame_levels.hpp"
@@ -15,21 +14,13 @@ RowTimeFrame measure_row_time(const cv::Mat& input, const RowTimeOptions& o) {
   if (!(o.min_row_time_us > 0.0) || !(o.max_row_time_us > o.min_row_time_us))
     throw std::invalid_argument("the row-time range must satisfy 0 < min < max");
   RowTimeFrame out;
-  cv::Mat gray;
-  switch (input.type()) {
-    case CV_8UC1:
-      gray = input;
-      break;
-    case CV_8UC3:
-      cv::cvtColor(input, gray, cv::COLOR_BGR2GRAY);
-      break;
-    case CV_16UC1:
-      input.convertTo(gray, CV_8U, 1.0 / 256.0);
-      break;
-    default:
-      out.reason = "unsupported pixel format";
-      return out;
+  cv::Mat buffer;
+  const cv::Mat* gp = as_gray8(input, buffer);
+  if (!gp) {
+    out.reason = "unsupported pixel format";
+    return out;
   }
+  const cv::Mat& gray = *gp;
   if (gray.empty()) {
     out.reason = "empty frame";
     return out;

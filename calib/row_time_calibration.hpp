@@ -47,7 +47,7 @@ struct RowTimeFrame {
   int first_row = 0, last_row = -1, first_col = 0, last_col = -1;
 };
 
-// `gray`: CV_8UC1 (CV_8UC3 BGR and CV_16UC1 are converted). Throws std::invalid_argument on
+// `gray`: CV_8UC1 (CV_8UC3 / CV_8UC4 BGR(A) and CV_16UC1 are converted: as_gray8). Throws std::invalid_argument on
 // options without a frequency or with an empty row-time range.
 RowTimeFrame measure_row_time(const cv::Mat& gray, const RowTimeOptions& options);
 

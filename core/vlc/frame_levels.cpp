@@ -2,8 +2,27 @@
 
 #include <algorithm>
 #include <array>
+#include <opencv2/imgproc.hpp>
 
 namespace luxloc {
+
+const cv::Mat* as_gray8(const cv::Mat& in, cv::Mat& buffer) {
+  switch (in.type()) {
+    case CV_8UC1:
+      return &in;
+    case CV_8UC3:
+      cv::cvtColor(in, buffer, cv::COLOR_BGR2GRAY);
+      return &buffer;
+    case CV_8UC4:
+      cv::cvtColor(in, buffer, cv::COLOR_BGRA2GRAY);
+      return &buffer;
+    case CV_16UC1:
+      in.convertTo(buffer, CV_8U, 1.0 / 256.0);
+      return &buffer;
+    default:
+      return nullptr;
+  }
+}
 
 FrameLevels frame_levels(const cv::Mat& g, double min_contrast_dn, double threshold_sigma, double background_quantile) {
   std::array<int, 256> hist{};

@@ -8,6 +8,10 @@
 
 namespace luxloc {
 
+// The 8-bit gray image of a camera frame: `in` itself when CV_8UC1, else CV_8UC3 (BGR),
+// CV_8UC4 (BGRA) or CV_16UC1 (top 8 bits) converted into `buffer`; nullptr for other types.
+const cv::Mat* as_gray8(const cv::Mat& in, cv::Mat& buffer);
+
 struct FrameLevels {
   double background = 0.0, noise = 1.0, threshold = 16.0;
 };

@@ -6,7 +6,6 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
-#include <opencv2/imgproc.hpp>
 
 #include "core/vlc/blob_segmenter.hpp"
 #include "core/vlc/chord_ellipse.hpp"
@@ -126,25 +125,8 @@ std::vector<LedObservation> StripeDecoder::decode(const cv::Mat& input) const {
   std::vector<LedObservation> out;
   if (input.empty()) return out;
   Scratch& S = scratch();
-  const cv::Mat* gp = &input;
-  switch (input.type()) {
-    case CV_8UC1:
-      break;
-    case CV_8UC3:
-      cv::cvtColor(input, S.gray8, cv::COLOR_BGR2GRAY);
-      gp = &S.gray8;
-      break;
-    case CV_8UC4:
-      cv::cvtColor(input, S.gray8, cv::COLOR_BGRA2GRAY);
-      gp = &S.gray8;
-      break;
-    case CV_16UC1:
-      input.convertTo(S.gray8, CV_8U, 1.0 / 256.0);
-      gp = &S.gray8;
-      break;
-    default:
-      return out;  // unsupported pixel format: nothing decodable
-  }
+  const cv::Mat* gp = as_gray8(input, S.gray8);
+  if (!gp) return out;  // unsupported pixel format: nothing decodable
   const cv::Mat& gray = *gp;
   const int H = gray.rows, W = gray.cols;
   const StripeDecoderOptions& o = options_;
@@ -472,7 +454,7 @@ std::vector<LedObservation> StripeDecoder::decode(const cv::Mat& input) const {
       obs.reject_reason = "too few rows";
     } else if (!est.valid || est.explained < o.min_explained) {
       obs.reject_reason = "no stripes";
-    } else if (!by_edges && est.span_rows * est.cycles_per_row < o.min_periods) {
+    } else if (!by_edges && est_periods < o.min_periods) {
       obs.reject_reason = "too few rows";
     } else if (!by_edges && est.peak_to_sidelobe < o.min_peak_to_sidelobe) {
       obs.reject_reason = "ambiguous frequency";
