@@ -151,30 +151,26 @@ void collect_board_views(const CalibCameraArgs& a, const calib::CameraCalibOptio
   std::optional<TimeNs> last_t;
   std::vector<cv::Point2f> last_corners;
   std::size_t frames = 0;
-  for (SourcePtr& src : opened.session.sources) {
-    SensorData d;
-    while (images.size() < a.views && src->next(d)) {
-      const auto* f = std::get_if<FrameSample>(&d);
-      if (!f) continue;
-      ++frames;
-      if (last_t && ns_to_seconds(f->t - *last_t) < a.interval_s) continue;
-      const std::vector<cv::Point2f> corners = calib::detect_chessboard(f->gray, o);
-      if (corners.empty()) continue;
-      if (!last_corners.empty()) {
-        double shift = 0.0;
-        for (std::size_t i = 0; i < corners.size(); ++i) shift += cv::norm(corners[i] - last_corners[i]);
-        if (shift / static_cast<double>(corners.size()) < 0.05 * f->gray.cols) continue;
-      }
-      char name[48];
-      std::snprintf(name, sizeof name, "frame %zu (t %.3f s)", frames, ns_to_seconds(f->t));
-      images.push_back(f->gray.clone());
-      names.emplace_back(name);
-      last_t = f->t;
-      last_corners = corners;
-      std::fprintf(stderr, "calib camera: view %zu of %zu: %s\n", images.size(), a.views, name);
-    }
-    src->request_stop();
-  }
+  for_each_frame(
+      opened, [&] { return images.size() < a.views; },
+      [&](const FrameSample& f) {
+        ++frames;
+        if (last_t && ns_to_seconds(f.t - *last_t) < a.interval_s) return;
+        const std::vector<cv::Point2f> corners = calib::detect_chessboard(f.gray, o);
+        if (corners.empty()) return;
+        if (!last_corners.empty()) {
+          double shift = 0.0;
+          for (std::size_t i = 0; i < corners.size(); ++i) shift += cv::norm(corners[i] - last_corners[i]);
+          if (shift / static_cast<double>(corners.size()) < 0.05 * f.gray.cols) return;
+        }
+        char name[48];
+        std::snprintf(name, sizeof name, "frame %zu (t %.3f s)", frames, ns_to_seconds(f.t));
+        images.push_back(f.gray.clone());
+        names.emplace_back(name);
+        last_t = f.t;
+        last_corners = corners;
+        std::fprintf(stderr, "calib camera: view %zu of %zu: %s\n", images.size(), a.views, name);
+      });
 }
 
 int run_calib_camera(const CalibCameraArgs& a) {

@@ -247,26 +247,23 @@ int run_survey(const SurveyArgs& a) {
   // The LED being surveyed is the blob nearest the image centre in each frame.
   std::vector<double> freqs;
   std::size_t frames = 0;
-  for (SourcePtr& src : opened.session.sources) {
-    SensorData s;
-    while (frames < a.frames && src->next(s)) {
-      const auto* f = std::get_if<FrameSample>(&s);
-      if (!f) continue;
-      ++frames;
-      const LedObservation* best = nullptr;
-      double best_d = 1e18;
-      for (const LedObservation& o : decoder.decode(f->gray)) {
-        if (o.reject_reason != "no map match" || o.touches_border || !(o.freq_hz > 0)) continue;
-        const double dist = (o.uv - Eigen::Vector2d(cam.cx, cam.cy)).norm();
-        if (dist < best_d) {
-          best_d = dist;
-          best = &o;
+  for_each_frame(
+      opened, [&] { return frames < a.frames; },
+      [&](const FrameSample& f) {
+        ++frames;
+        const LedObservation* best = nullptr;
+        double best_d = 1e18;
+        const std::vector<LedObservation> obs = decoder.decode(f.gray);
+        for (const LedObservation& o : obs) {
+          if (o.reject_reason != "no map match" || o.touches_border || !(o.freq_hz > 0)) continue;
+          const double dist = (o.uv - Eigen::Vector2d(cam.cx, cam.cy)).norm();
+          if (dist < best_d) {
+            best_d = dist;
+            best = &o;
+          }
         }
-      }
-      if (best) freqs.push_back(best->freq_hz);
-    }
-    src->request_stop();
-  }
+        if (best) freqs.push_back(best->freq_hz);
+      });
   if (freqs.size() < 3)
     throw InputError("survey", 0, "frames",
                      "an LED with stripes was found in " + std::to_string(freqs.size()) + " of " +

@@ -80,17 +80,13 @@ int run_calib_rowtime(const CalibRowTimeArgs& a) {
     rc.playback = a.playback;
     rc.sources = a.sources;
     OpenedSources opened = open_run_sources(rc);
-    for (SourcePtr& src : opened.session.sources) {
-      SensorData d;
-      while (frames.size() < a.frames && src->next(d)) {
-        const auto* f = std::get_if<FrameSample>(&d);
-        if (!f) continue;
-        char name[48];
-        std::snprintf(name, sizeof name, "frame t %.3f s", ns_to_seconds(f->t));
-        measure(f->gray, name);
-      }
-      src->request_stop();
-    }
+    for_each_frame(
+        opened, [&] { return frames.size() < a.frames; },
+        [&](const FrameSample& f) {
+          char name[48];
+          std::snprintf(name, sizeof name, "frame t %.3f s", ns_to_seconds(f.t));
+          measure(f.gray, name);
+        });
   }
   const calib::RowTimeSummary s = calib::summarize_row_times(frames);
   const std::string origin = !a.images.empty() ? a.images : !a.playback.empty() ? a.playback : "--source";

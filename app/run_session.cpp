@@ -235,6 +235,16 @@ void add_particle_filter_options(CLI::App* sub, ParticleFilterOptions& pf) {
       ->group(g);
 }
 
+void for_each_frame(OpenedSources& opened, const std::function<bool()>& more,
+                    const std::function<void(const FrameSample&)>& visit) {
+  for (SourcePtr& src : opened.session.sources) {
+    SensorData d;
+    while (more() && src->next(d))
+      if (const auto* f = std::get_if<FrameSample>(&d)) visit(*f);
+    src->request_stop();
+  }
+}
+
 OpenedSources open_run_sources(const RunConfig& c) {
   for (const std::string& path : c.plugins) register_external_plugin(path);
   std::vector<std::string> playback_dirs;

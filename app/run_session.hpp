@@ -3,6 +3,7 @@
 // options, runs the pipeline and reports what happened.
 #include <CLI/CLI.hpp>
 #include <filesystem>
+#include <functional>
 #include <iosfwd>
 #include <optional>
 #include <string>
@@ -59,6 +60,11 @@ struct OpenedSources {
   PipelineOptions pipeline;
 };
 OpenedSources open_run_sources(const RunConfig& cfg);
+// The camera frames of the opened sources, one source after another, for the calibration
+// tools: visit(frame) while more() holds (checked before each read); then every source is
+// asked to stop (a live camera would stream on).
+void for_each_frame(OpenedSources& opened, const std::function<bool()>& more,
+                    const std::function<void(const FrameSample&)>& visit);
 // Runs the pipeline; SIGINT/SIGTERM stop it cleanly for the duration.
 PipelineReport run_with_stop_signals(Pipeline& pipeline, FusionStage& stage);
 
