@@ -12,6 +12,7 @@
 #include "plugins/serial/serial_imu_source.hpp"
 #include "plugins/serial/serial_port.hpp"
 #include "socat_pair.hpp"
+#include "../source_reader.hpp"
 #include "test_support.hpp"
 
 using namespace luxloc;
@@ -29,35 +30,6 @@ void append_cycle(std::vector<std::uint8_t>& b, int k) {
     b.insert(b.end(), p.begin(), p.end());
 }
 
-// Collects samples from a source on a thread of its own until it ends or `count` arrived.
-struct Reader {
-  explicit Reader(Source& s, std::size_t count) : source(s), thread([this, count] {
-    SensorData d;
-    while (samples.size() < count && source.next(d)) {
-      samples.push_back(std::get<ImuSample>(d));
-      arrival.push_back(std::chrono::steady_clock::now());
-    }
-    done = true;
-  }) {}
-  ~Reader() {
-    if (thread.joinable()) {
-      source.request_stop();
-      thread.join();
-    }
-  }
-  bool join_within(std::chrono::milliseconds t) {
-    const auto end = std::chrono::steady_clock::now() + t;
-    while (!done && std::chrono::steady_clock::now() < end) std::this_thread::sleep_for(5ms);
-    if (!done) return false;
-    thread.join();
-    return true;
-  }
-  Source& source;
-  std::vector<ImuSample> samples;
-  std::vector<std::chrono::steady_clock::time_point> arrival;
-  std::atomic<bool> done{false};
-  std::thread thread;
-};
 
 SerialImuOptions witmotion_options(const std::string& path) {
   SerialImuOptions o;
@@ -83,7 +55,7 @@ TEST_CASE("Serial IMU: 2000 samples/s of WitMotion with garbage and split writes
   SerialImuSource source(witmotion_options(pty.b()));
   SerialPort writer(pty.a(), 921600);
   constexpr int kSamples = 4000;  // 2 s at 2000 Hz
-  Reader reader(source, kSamples);
+  test::SourceReader<ImuSample> reader(source, kSamples);
   FastRng rng(21);
   std::size_t garbage = 0;
   const auto t0 = std::chrono::steady_clock::now();
@@ -133,7 +105,7 @@ TEST_CASE("Serial IMU: CSV lines through a pty, via the serial-imu source kind",
       SourceSpec::parse("serial-imu:" + pty.b() + ",baud=115200,protocol=csv,columns=ax:ay:az:gx:gy:gz,gyro_unit=dps,axes=+y-x+z"));
   REQUIRE(source->live());
   SerialPort writer(pty.a(), 115200);
-  Reader reader(*source, 3);
+  test::SourceReader<ImuSample> reader(*source, 3);
   const std::string text = "0.1,0.2,9.8,90,0,0\nnot a sample\n0.1,0.2,9.8,0,90,0\n0.1,0.2,9.8,0,0,90\n";
   writer.write_all(reinterpret_cast<const std::uint8_t*>(text.data()), text.size());
   REQUIRE(reader.join_within(2s));
@@ -151,7 +123,7 @@ TEST_CASE("Serial IMU: the writer vanishing ends the stream with a failure (on_l
   test::SocatPair pty(test::scratch_dir("serial_loss_end"));
   REQUIRE(pty.running());
   SerialImuSource source(witmotion_options(pty.b()));
-  Reader reader(source, 1000000);
+  test::SourceReader<ImuSample> reader(source, 1000000);
   {
     SerialPort writer(pty.a(), 921600);
     std::vector<std::uint8_t> bytes;
@@ -174,7 +146,7 @@ TEST_CASE("Serial IMU: on_loss=wait survives the device going away and coming ba
   o.on_loss = OnLoss::wait;
   o.reopen_interval_s = 0.05;
   SerialImuSource source(o);
-  Reader reader(source, 200);
+  test::SourceReader<ImuSample> reader(source, 200);
   auto send = [&](int from) {
     SerialPort writer(pty.a(), 921600);
     std::vector<std::uint8_t> bytes;
@@ -201,7 +173,7 @@ TEST_CASE("Serial IMU: request_stop unblocks a waiting next(), bad specs are inp
   test::SocatPair pty(test::scratch_dir("serial_stop"));
   REQUIRE(pty.running());
   SerialImuSource source(witmotion_options(pty.b()));
-  Reader reader(source, 10);
+  test::SourceReader<ImuSample> reader(source, 10);
   std::this_thread::sleep_for(100ms);
   const auto t = std::chrono::steady_clock::now();
   source.request_stop();

@@ -9,6 +9,7 @@
 #include "plugins/serial/serial_port.hpp"
 #include "plugins/uwb/uwb_serial_source.hpp"
 #include "../serial/socat_pair.hpp"
+#include "../source_reader.hpp"
 #include "test_support.hpp"
 
 using namespace luxloc;
@@ -21,31 +22,6 @@ namespace {
     WARN("socat not installed: UWB pseudo-terminal test skipped");    \
     return;                                                           \
   }
-
-struct Reader {
-  Reader(Source& s, std::size_t count) : source(s), thread([this, count] {
-    SensorData d;
-    while (out.size() < count && source.next(d)) out.push_back(d);
-    done = true;
-  }) {}
-  ~Reader() {
-    if (thread.joinable()) {
-      source.request_stop();
-      thread.join();
-    }
-  }
-  bool join_within(std::chrono::milliseconds t) {
-    const auto end = std::chrono::steady_clock::now() + t;
-    while (!done && std::chrono::steady_clock::now() < end) std::this_thread::sleep_for(5ms);
-    if (!done) return false;
-    thread.join();
-    return true;
-  }
-  Source& source;
-  std::vector<SensorData> out;
-  std::atomic<bool> done{false};
-  std::thread thread;
-};
 
 std::string lec_line(int k) {
   char buf[256];
@@ -77,7 +53,7 @@ TEST_CASE("UWB DWM1001 source: 300 lec lines with broken ones and split writes t
   }
   // An interleaved report spoils the line it runs into: both are lost.
   const std::size_t expected = 3 * static_cast<std::size_t>(kLines - broken);
-  Reader reader(*source, expected);
+  test::SourceReader<> reader(*source, expected);
   // Writes of odd sizes that split lines anywhere, paced like a 100 Hz tag.
   for (std::size_t i = 0; i < text.size();) {
     const std::size_t n = std::min<std::size_t>(text.size() - i, 97);
@@ -86,15 +62,15 @@ TEST_CASE("UWB DWM1001 source: 300 lec lines with broken ones and split writes t
     std::this_thread::sleep_for(1ms);
   }
   REQUIRE(reader.join_within(5s));
-  REQUIRE(reader.out.size() == expected);  // every intact line, no range lost
+  REQUIRE(reader.samples.size() == expected);  // every intact line, no range lost
   std::size_t i = 0;
   for (int k = 0; k < kLines; ++k) {
     if (k % 25 == 7) continue;  // the line the broken report ran into
-    const auto& a1 = std::get<UwbSample>(reader.out[i + 1]);
+    const auto& a1 = std::get<UwbSample>(reader.samples[i + 1]);
     REQUIRE(a1.anchor == 0x1A9C);
     REQUIRE(a1.range_m == Approx(2.0 + 0.01 * k));
     REQUIRE(a1.p_AinW.isApprox(Eigen::Vector3d(8.0, 0.0, 2.4)));
-    if (i > 0) REQUIRE(a1.t >= std::get<UwbSample>(reader.out[i - 2]).t);
+    if (i > 0) REQUIRE(a1.t >= std::get<UwbSample>(reader.samples[i - 2]).t);
     i += 3;
   }
   CHECK(source->drops().count(uwb_drop::kBadLine) == static_cast<std::uint64_t>(broken));
@@ -108,7 +84,7 @@ TEST_CASE("UWB source: TOF+AOA records, the device vanishing, bad specs", "[uwb]
   UwbSerialOptions o = UwbSerialOptions::from_spec(SourceSpec::parse("uwb:" + pty.b() + ",protocol=tof-aoa"));
   o.report_to_stderr = false;
   UwbSerialSource source(o);
-  Reader reader(source, 1000);
+  test::SourceReader<> reader(source, 1000);
   {
     SerialPort writer(pty.a(), 115200);
     const std::string text = "1,3.25,0.50\n1,3.30\ngarbage\n1,3.35,0.52\n";
@@ -117,8 +93,8 @@ TEST_CASE("UWB source: TOF+AOA records, the device vanishing, bad specs", "[uwb]
   }
   pty.stop();  // unplugged
   REQUIRE(reader.join_within(3s));
-  REQUIRE(reader.out.size() == 3);
-  CHECK(std::get<UwbSample>(reader.out[2]).aoa_rad == Approx(0.52));
+  REQUIRE(reader.samples.size() == 3);
+  CHECK(std::get<UwbSample>(reader.samples[2]).aoa_rad == Approx(0.52));
   CHECK(source.drops().count(uwb_drop::kBadLine) == 1);
   CHECK_THAT(source.failure(), Catch::Contains("device lost"));
 
