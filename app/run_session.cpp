@@ -1,5 +1,6 @@
 #include "app/run_session.hpp"
 
+#include <algorithm>
 #include <atomic>
 #include <csignal>
 #include <iomanip>
@@ -387,8 +388,13 @@ void print_report(const RunOutcome& r, std::ostream& log) {
     log << "  source " << s.name << ": " << s.samples << " samples";
     for (const auto& [reason, e] : s.drops) log << ", " << e.count << " skipped (" << reason << ")";
     log << "\n";
-    for (const auto& [reason, e] : s.drops)
-      if (!e.first_message.empty()) log << "    first " << reason << ": " << e.first_message << "\n";
+    for (const auto& [reason, e] : s.drops) {
+      if (e.first_message.empty()) continue;
+      log << "    first " << reason << ": " << e.first_message << "\n";
+      for (std::size_t i = 1; i < e.messages.size(); ++i) log << "    " << reason << ": " << e.messages[i] << "\n";
+      const std::uint64_t named = std::max<std::uint64_t>(e.messages.size(), 1);
+      if (e.count > named) log << "    (" << e.count - named << " more " << reason << " not listed)\n";
+    }
     if (!s.failure.empty()) log << "    FAILED: " << s.failure << "\n";
   }
   const FusionStats& f = r.fusion;

@@ -47,4 +47,23 @@ double SourceSpec::get_number(const std::string& key, double fallback) const {
   return v;
 }
 
+SensorLimits SourceSpec::limits(SensorLimits l) const {
+  const auto positive = [&](const char* key, double scale, double& out) {
+    if (!params.count(key)) return;
+    const double v = get_number(key, 0.0);
+    if (!(v > 0.0)) throw InputError("--source", 0, key, "'" + text + "': must be > 0");
+    out = v * scale;
+  };
+  positive("acc_max_g", SensorLimits::kStandardGravity, l.acc_max_mps2);
+  positive("gyro_max_dps", 3.141592653589793 / 180.0, l.gyro_max_rad_s);
+  positive("mag_max_ut", 1.0, l.mag_max_ut);
+  positive("range_max_m", 1.0, l.range_max_m);
+  return l;
+}
+
+const std::vector<std::string>& SourceSpec::limit_keys() {
+  static const std::vector<std::string> keys = {"acc_max_g", "gyro_max_dps", "mag_max_ut", "range_max_m"};
+  return keys;
+}
+
 }  // namespace luxloc

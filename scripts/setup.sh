@@ -6,7 +6,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 PACKAGES=(build-essential cmake ninja-build pkg-config git
-          libeigen3-dev libopencv-dev libv4l-dev libtbb-dev libcli11-dev catch2 libbenchmark-dev
+          libeigen3-dev libopencv-dev libv4l-dev libtbb-dev libcli11-dev catch2 libbenchmark-dev zlib1g-dev
           socat opencv-doc)
 
 missing=()

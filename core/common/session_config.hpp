@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "core/common/sensor_limits.hpp"
+
 namespace luxloc {
 
 struct UwbAnchor {
@@ -15,6 +17,7 @@ struct UwbAnchor {
 struct SessionConfig {
   double device_height_m = std::numeric_limits<double>::quiet_NaN();  // NaN: not given
   std::vector<UwbAnchor> anchors;
+  SensorLimits limits;  // `sensor_limits`: the sensors' plausible ranges (playback)
   // File names (relative to the session folder) where they differ from SPEC's defaults.
   std::string imu_file = "imu.csv";
   std::string frames_file = "frames.csv";

@@ -6,99 +6,91 @@
 #include <set>
 
 #include "core/common/input_error.hpp"
+#include "core/common/yaml_reader.hpp"
 
 namespace luxloc {
 namespace {
 
-// An empty file (or one holding only the YAML preamble) is a valid, all-defaults session.
-bool blank_yaml(const std::string& path) {
-  std::error_code ec;
-  return std::filesystem::exists(path, ec) && std::filesystem::file_size(path, ec) == 0;
+double anchor_number(const YamlFile& f, const cv::FileNode& a, const std::string& label, const char* key) {
+  const std::string field = std::string("anchors.") + key;
+  const cv::FileNode n = f.member(a, key, label);
+  if (n.empty()) f.fail(field, label, "missing required field");
+  return f.number(n, field, label);
 }
 
-cv::FileStorage open_yaml(const std::string& path, const char* what) {
-  cv::FileStorage fs;
-  try {
-    if (!fs.open(path, cv::FileStorage::READ | cv::FileStorage::FORMAT_YAML))
-      throw InputError(path, 0, "", std::string("cannot open ") + what);
-  } catch (const cv::Exception& e) {
-    throw InputError(path, 0, "", std::string("not a valid OpenCV YAML file: ") + e.err);
-  }
-  return fs;
-}
-
-double anchor_number(const std::string& path, std::size_t index, const cv::FileNode& a, const char* key) {
-  const cv::FileNode n = a[key];
-  const std::string label = "anchor #" + std::to_string(index + 1);
-  if (n.empty()) throw InputError(path, 0, std::string("anchors.") + key, label + ": missing required field");
-  if (!n.isReal() && !n.isInt()) throw InputError(path, 0, std::string("anchors.") + key, label + ": not a number");
-  const double v = static_cast<double>(n);
-  if (!std::isfinite(v)) throw InputError(path, 0, std::string("anchors.") + key, label + ": not finite");
-  return v;
-}
-
-std::vector<UwbAnchor> read_anchors(const cv::FileStorage& fs, const std::string& path) {
+std::vector<UwbAnchor> read_anchors(const YamlFile& f) {
   std::vector<UwbAnchor> anchors;
-  const cv::FileNode seq = fs["anchors"];
-  if (seq.empty() || seq.isNone()) return anchors;
-  if (!seq.isSeq()) throw InputError(path, 0, "anchors", "not a sequence of {id, x, y, z}");
+  const cv::FileNode seq = f["anchors"];
+  if (seq.empty()) return anchors;
+  if (!seq.isSeq()) f.fail("anchors", "", "not a sequence of {id, x, y, z}");
   std::set<int> ids;
   std::size_t index = 0;
   for (auto it = seq.begin(); it != seq.end(); ++it, ++index) {
     const cv::FileNode a = *it;
     const std::string label = "anchor #" + std::to_string(index + 1);
-    if (!a.isMap()) throw InputError(path, 0, "anchors", label + ": not a mapping {id, x, y, z}");
-    const cv::FileNode idn = a["id"];
-    if (idn.empty()) throw InputError(path, 0, "anchors.id", label + ": missing required field");
-    if (!idn.isInt()) throw InputError(path, 0, "anchors.id", label + ": not an integer");
+    if (!a.isMap()) f.fail("anchors", label, "not a mapping {id, x, y, z}");
+    const cv::FileNode idn = f.member(a, "id", label);
+    if (idn.empty()) f.fail("anchors.id", label, "missing required field");
     UwbAnchor u;
-    u.id = static_cast<int>(idn);
-    if (!ids.insert(u.id).second)
-      throw InputError(path, 0, "anchors.id", label + ": duplicate id " + std::to_string(u.id));
-    u.p_inW = {anchor_number(path, index, a, "x"), anchor_number(path, index, a, "y"),
-               anchor_number(path, index, a, "z")};
+    u.id = f.integer(idn, "anchors.id", label);
+    if (!ids.insert(u.id).second) f.fail("anchors.id", label, "duplicate id " + std::to_string(u.id));
+    u.p_inW = {anchor_number(f, a, label, "x"), anchor_number(f, a, label, "y"), anchor_number(f, a, label, "z")};
     anchors.push_back(u);
   }
   return anchors;
 }
 
-void read_file_name(const cv::FileStorage& fs, const std::string& path, const char* key, std::string& out) {
-  const cv::FileNode n = fs[key];
-  if (n.empty() || n.isNone()) return;
-  if (!n.isString()) throw InputError(path, 0, key, "not a file name (string)");
+void read_file_name(const YamlFile& f, const char* key, std::string& out) {
+  const cv::FileNode n = f[key];
+  if (n.empty()) return;
+  if (!n.isString()) f.fail(key, "", "not a file name (string)");
   const std::string s = static_cast<std::string>(n);
-  if (s.empty()) throw InputError(path, 0, key, "empty file name");
+  if (s.empty()) f.fail(key, "", "empty file name");
   out = s;
+}
+
+// `sensor_limits: {acc_max_g, gyro_max_dps, mag_max_ut, range_max_m}`: the sensors' ranges
+// when they differ from the defaults (core/common/sensor_limits.hpp).
+void read_sensor_limits(const YamlFile& f, SensorLimits& l) {
+  const cv::FileNode m = f["sensor_limits"];
+  if (m.empty()) return;
+  f.expect_map(m, "sensor_limits", "");
+  const auto positive = [&](const char* key, double scale, double& out) {
+    const cv::FileNode n = f.member(m, key, "sensor_limits");
+    if (n.empty()) return;
+    const std::string field = std::string("sensor_limits.") + key;
+    const double v = f.number(n, field, "");
+    if (!(v > 0.0)) f.fail(field, "", "must be > 0");
+    out = v * scale;
+  };
+  positive("acc_max_g", SensorLimits::kStandardGravity, l.acc_max_mps2);
+  positive("gyro_max_dps", 3.141592653589793 / 180.0, l.gyro_max_rad_s);
+  positive("mag_max_ut", 1.0, l.mag_max_ut);
+  positive("range_max_m", 1.0, l.range_max_m);
 }
 
 }  // namespace
 
-std::vector<UwbAnchor> load_anchors(const std::string& path) {
-  if (blank_yaml(path)) return {};
-  const cv::FileStorage fs = open_yaml(path, "YAML file");
-  return read_anchors(fs, path);
-}
+std::vector<UwbAnchor> load_anchors(const std::string& path) { return read_anchors(YamlFile(path, "YAML file")); }
 
 SessionConfig load_session_config(const std::string& path) {
   SessionConfig c;
-  if (blank_yaml(path)) return c;
-  const cv::FileStorage fs = open_yaml(path, "session file");
-  const cv::FileNode h = fs["device_height_m"];
-  if (!h.empty() && !h.isNone()) {
-    if (!h.isReal() && !h.isInt()) throw InputError(path, 0, "device_height_m", "not a number");
-    c.device_height_m = static_cast<double>(h);
-    if (!std::isfinite(c.device_height_m) || c.device_height_m < 0.0)
-      throw InputError(path, 0, "device_height_m", "must be a finite height >= 0 (m)");
+  const YamlFile f(path, "session file");
+  const cv::FileNode h = f["device_height_m"];
+  if (!h.empty()) {
+    c.device_height_m = f.number(h, "device_height_m", "");
+    if (c.device_height_m < 0.0) f.fail("device_height_m", "", "must be a finite height >= 0 (m)");
   }
-  c.anchors = read_anchors(fs, path);
-  read_file_name(fs, path, "imu", c.imu_file);
-  read_file_name(fs, path, "frames", c.frames_file);
-  read_file_name(fs, path, "uwb", c.uwb_file);
-  read_file_name(fs, path, "fixes", c.fixes_file);
-  read_file_name(fs, path, "odom", c.odom_file);
-  read_file_name(fs, path, "groundtruth", c.groundtruth_file);
-  read_file_name(fs, path, "ledmap", c.ledmap_file);
-  read_file_name(fs, path, "camera", c.camera_file);
+  c.anchors = read_anchors(f);
+  read_sensor_limits(f, c.limits);
+  read_file_name(f, "imu", c.imu_file);
+  read_file_name(f, "frames", c.frames_file);
+  read_file_name(f, "uwb", c.uwb_file);
+  read_file_name(f, "fixes", c.fixes_file);
+  read_file_name(f, "odom", c.odom_file);
+  read_file_name(f, "groundtruth", c.groundtruth_file);
+  read_file_name(f, "ledmap", c.ledmap_file);
+  read_file_name(f, "camera", c.camera_file);
   return c;
 }
 

@@ -8,6 +8,9 @@
 //   uwb: uwb.csv        fixes: fixes.csv         folder (or absolute), where they differ
 //   odom: odom.csv      groundtruth: groundtruth.csv     from SPEC's defaults
 //   ledmap: ledmap.yaml camera: camera.yaml
+//   sensor_limits: { acc_max_g: 16, gyro_max_dps: 2000, mag_max_ut: 1000, range_max_m: 200 }
+//                                                plausible ranges; a sample beyond them is
+//                                                skipped as "out of range" (sensor_limits.hpp)
 #include <string>
 #include <vector>
 

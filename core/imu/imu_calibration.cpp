@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "core/common/input_error.hpp"
+#include "core/common/yaml_reader.hpp"
 
 namespace luxloc {
 namespace {
@@ -15,31 +16,20 @@ constexpr double kMinScale = 0.5, kMaxScale = 2.0;
 
 // Reads a 3-element numeric sequence (or a 3-element opencv-matrix) into `out`; returns
 // false when the key is absent.
-bool read_vec3(const cv::FileStorage& fs, const std::string& path, const char* key, Eigen::Vector3d& out) {
-  const cv::FileNode n = fs[key];
-  if (n.empty() || n.isNone()) return false;
+bool read_vec3(const YamlFile& f, const char* key, Eigen::Vector3d& out) {
+  const cv::FileNode n = f[key];
+  if (n.empty()) return false;
   Eigen::Vector3d v;
   if (n.isSeq()) {
-    if (n.size() != 3) throw InputError(path, 0, key, "expected 3 numbers, got " + std::to_string(n.size()));
-    for (int i = 0; i < 3; ++i) {
-      const cv::FileNode e = n[i];
-      if (!e.isReal() && !e.isInt()) throw InputError(path, 0, key, "element " + std::to_string(i) + " is not a number");
-      v[i] = static_cast<double>(e);
-    }
+    if (n.size() != 3) f.fail(key, "", "expected 3 numbers, got " + std::to_string(n.size()));
+    for (int i = 0; i < 3; ++i) v[i] = f.number(n[i], key, "element " + std::to_string(i));
   } else if (n.isMap()) {
-    cv::Mat m;
-    try {
-      n >> m;
-    } catch (const cv::Exception& e) {
-      throw InputError(path, 0, key, std::string("not a 3-vector: ") + e.err);
-    }
-    if (m.total() != 3) throw InputError(path, 0, key, "expected 3 numbers");
-    m.convertTo(m, CV_64F);
+    const cv::Mat m = f.matrix(n, key);
+    if (m.total() != 3) f.fail(key, "", "expected 3 numbers");
     for (int i = 0; i < 3; ++i) v[i] = m.at<double>(i);
   } else {
-    throw InputError(path, 0, key, "expected a sequence of 3 numbers");
+    f.fail(key, "", "expected a sequence of 3 numbers");
   }
-  if (!v.allFinite()) throw InputError(path, 0, key, "holds a non-finite value");
   out = v;
   return true;
 }
@@ -69,22 +59,15 @@ bool ImuCalibration::is_identity() const {
 }
 
 ImuCalibration load_imu_calibration(const std::string& path) {
-  if (!std::filesystem::is_regular_file(path)) throw InputError(path, 0, "", "cannot open IMU calibration file");
-  cv::FileStorage fs;
-  try {
-    if (!fs.open(path, cv::FileStorage::READ | cv::FileStorage::FORMAT_YAML))
-      throw InputError(path, 0, "", "cannot open IMU calibration file");
-  } catch (const cv::Exception& e) {
-    throw InputError(path, 0, "", std::string("not a valid OpenCV YAML file: ") + e.err);
-  }
+  const YamlFile f(path, "IMU calibration file");
   ImuCalibration c;
   int found = 0;
-  found += read_vec3(fs, path, "gyro_bias", c.gyro_bias);
-  found += read_vec3(fs, path, "gyro_scale", c.gyro_scale);
-  found += read_vec3(fs, path, "acc_bias", c.acc_bias);
-  found += read_vec3(fs, path, "acc_scale", c.acc_scale);
-  found += read_vec3(fs, path, "mag_bias", c.mag_bias);
-  found += read_vec3(fs, path, "mag_scale", c.mag_scale);
+  found += read_vec3(f, "gyro_bias", c.gyro_bias);
+  found += read_vec3(f, "gyro_scale", c.gyro_scale);
+  found += read_vec3(f, "acc_bias", c.acc_bias);
+  found += read_vec3(f, "acc_scale", c.acc_scale);
+  found += read_vec3(f, "mag_bias", c.mag_bias);
+  found += read_vec3(f, "mag_scale", c.mag_scale);
   if (found == 0)
     throw InputError(path, 0, "", "no calibration keys (gyro_bias, gyro_scale, acc_bias, acc_scale, mag_bias, mag_scale)");
   check_scale(path, "gyro_scale", c.gyro_scale);

@@ -6,67 +6,54 @@
 #include <opencv2/core/persistence.hpp>
 
 #include "core/common/input_error.hpp"
+#include "core/common/yaml_reader.hpp"
 
 namespace luxloc {
 namespace {
 
-cv::Mat read_matrix(const cv::FileStorage& fs, const std::string& path, const char* key, int rows,
-                    int cols, bool required) {
-  cv::Mat m;
-  const cv::FileNode n = fs[key];
+cv::Mat read_matrix(const YamlFile& f, const char* key, int rows, int cols, bool required) {
+  const cv::FileNode n = f[key];
   if (n.empty()) {
-    if (required) throw InputError(path, 0, key, "missing required key");
-    return m;
+    if (required) f.fail(key, "", "missing required key");
+    return {};
   }
-  try {
-    n >> m;
-  } catch (const cv::Exception& e) {
-    throw InputError(path, 0, key, std::string("not an opencv-matrix: ") + e.err);
-  }
-  if (m.empty()) throw InputError(path, 0, key, "not an opencv-matrix");
-  m.convertTo(m, CV_64F);
+  cv::Mat m = f.matrix(n, key);
   if (rows > 0 && cols > 0 && (m.rows * m.cols != rows * cols))
-    throw InputError(path, 0, key,
-                     "expected " + std::to_string(rows) + "x" + std::to_string(cols) + ", got " +
-                         std::to_string(m.rows) + "x" + std::to_string(m.cols));
-  for (int i = 0; i < m.rows * m.cols; ++i)
-    if (!std::isfinite(m.at<double>(i))) throw InputError(path, 0, key, "holds a non-finite value");
+    f.fail(key, "", "expected " + std::to_string(rows) + "x" + std::to_string(cols) + ", got " + std::to_string(m.rows) +
+                        "x" + std::to_string(m.cols));
   return m.reshape(1, rows > 0 ? rows : m.rows);
 }
 
-double read_positive(const cv::FileStorage& fs, const std::string& path, const char* key,
-                     bool required, double fallback) {
-  const cv::FileNode n = fs[key];
+double read_positive(const YamlFile& f, const char* key, bool required, double fallback) {
+  const cv::FileNode n = f[key];
   if (n.empty()) {
-    if (required) throw InputError(path, 0, key, "missing required key");
+    if (required) f.fail(key, "", "missing required key");
     return fallback;
   }
-  if (!n.isReal() && !n.isInt()) throw InputError(path, 0, key, "not a number");
-  const double v = static_cast<double>(n);
-  if (!(v > 0.0) || !std::isfinite(v)) throw InputError(path, 0, key, "must be > 0");
+  const double v = f.number(n, key, "");
+  if (!(v > 0.0)) f.fail(key, "", "must be > 0");
   return v;
 }
 
 }  // namespace
 
 CameraModel CameraModel::load(const std::string& path) {
-  cv::FileStorage fs;
-  try {
-    if (!fs.open(path, cv::FileStorage::READ | cv::FileStorage::FORMAT_YAML))
-      throw InputError(path, 0, "", "cannot open camera file");
-  } catch (const cv::Exception& e) {
-    throw InputError(path, 0, "", std::string("not a valid OpenCV YAML file: ") + e.err);
-  }
+  const YamlFile f(path, "camera file");
   CameraModel c;
-  c.width = static_cast<int>(read_positive(fs, path, "image_width", true, 0));
-  c.height = static_cast<int>(read_positive(fs, path, "image_height", true, 0));
-  const cv::Mat K = read_matrix(fs, path, "camera_matrix", 3, 3, true);
+  // Image sizes are whole pixels; 65536 is beyond any camera sensor (and keeps int math safe).
+  for (const char* key : {"image_width", "image_height"}) {
+    const double v = read_positive(f, key, true, 0);
+    if (v != std::floor(v) || v > 65536) f.fail(key, "", "must be a whole number of pixels, 1..65536");
+  }
+  c.width = static_cast<int>(read_positive(f, "image_width", true, 0));
+  c.height = static_cast<int>(read_positive(f, "image_height", true, 0));
+  const cv::Mat K = read_matrix(f, "camera_matrix", 3, 3, true);
   c.fx = K.at<double>(0, 0);
   c.fy = K.at<double>(1, 1);
   c.cx = K.at<double>(0, 2);
   c.cy = K.at<double>(1, 2);
   if (!(c.fx > 0 && c.fy > 0)) throw InputError(path, 0, "camera_matrix", "focal lengths must be > 0");
-  const cv::Mat D = read_matrix(fs, path, "distortion_coefficients", 0, 0, false);
+  const cv::Mat D = read_matrix(f, "distortion_coefficients", 0, 0, false);
   if (!D.empty()) {
     const int n = D.rows * D.cols;
     if (n < 4) throw InputError(path, 0, "distortion_coefficients", "needs at least 4 values");
@@ -77,9 +64,9 @@ CameraModel CameraModel::load(const std::string& path) {
                            "rational / thin-prism terms (k4..) are not supported; recalibrate with 5");
     for (int i = 0; i < std::min(n, 5); ++i) c.dist[static_cast<std::size_t>(i)] = D.at<double>(i);
   }
-  c.row_time_s = read_positive(fs, path, "row_time_us", false, 30.0) * 1e-6;
-  c.exposure_s = read_positive(fs, path, "exposure_us", false, 100.0) * 1e-6;
-  const cv::Mat R = read_matrix(fs, path, "R_body_camera", 3, 3, false);
+  c.row_time_s = read_positive(f, "row_time_us", false, 30.0) * 1e-6;
+  c.exposure_s = read_positive(f, "exposure_us", false, 100.0) * 1e-6;
+  const cv::Mat R = read_matrix(f, "R_body_camera", 3, 3, false);
   if (!R.empty()) {
     for (int r = 0; r < 3; ++r)
       for (int k = 0; k < 3; ++k) c.R_CtoB(r, k) = R.at<double>(r, k);
@@ -87,7 +74,7 @@ CameraModel CameraModel::load(const std::string& path) {
     if (ortho > 1e-3 || c.R_CtoB.determinant() < 0.0)
       throw InputError(path, 0, "R_body_camera", "not a rotation matrix (orthonormal, det +1)");
   }
-  const cv::Mat t = read_matrix(fs, path, "t_body_camera", 3, 1, false);
+  const cv::Mat t = read_matrix(f, "t_body_camera", 3, 1, false);
   if (!t.empty())
     for (int r = 0; r < 3; ++r) c.p_CinB(r) = t.at<double>(r);
   return c;

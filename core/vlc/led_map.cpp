@@ -8,29 +8,23 @@
 #include <sstream>
 
 #include "core/common/input_error.hpp"
+#include "core/common/yaml_reader.hpp"
 
 namespace luxloc {
 namespace {
 
-std::string led_label(std::size_t index, const cv::FileNode& node) {
-  std::ostringstream s;
-  s << "LED #" << index + 1;
-  if (!node["id"].empty() && node["id"].isInt()) s << " (id " << static_cast<int>(node["id"]) << ")";
-  return s.str();
+std::string led_label(std::size_t index, int id) {
+  return "LED #" + std::to_string(index + 1) + " (id " + std::to_string(id) + ")";
 }
 
-double read_number(const std::string& path, std::size_t index, const cv::FileNode& led,
-                   const char* field, bool required, double fallback) {
-  const cv::FileNode n = led[field];
+double read_number(const YamlFile& f, const cv::FileNode& led, const std::string& label, const char* field,
+                   bool required, double fallback) {
+  const cv::FileNode n = f.member(led, field, label);
   if (n.empty()) {
-    if (required) throw InputError(path, 0, field, led_label(index, led) + ": missing required field");
+    if (required) f.fail(field, label, "missing required field");
     return fallback;
   }
-  if (!n.isReal() && !n.isInt())
-    throw InputError(path, 0, field, led_label(index, led) + ": not a number");
-  const double v = static_cast<double>(n);
-  if (!std::isfinite(v)) throw InputError(path, 0, field, led_label(index, led) + ": not finite");
-  return v;
+  return f.number(n, field, label);
 }
 
 }  // namespace
@@ -65,36 +59,32 @@ LedMap::LedMap(std::vector<Led> leds, std::string origin, const LedMapOptions& o
 }
 
 LedMap LedMap::load(const std::string& path, const LedMapOptions& options) {
-  cv::FileStorage fs;
-  try {
-    if (!fs.open(path, cv::FileStorage::READ | cv::FileStorage::FORMAT_YAML))
-      throw InputError(path, 0, "", "cannot open LED map");
-  } catch (const cv::Exception& e) {
-    throw InputError(path, 0, "", std::string("not a valid OpenCV YAML file: ") + e.err);
-  }
-  const cv::FileNode seq = fs["leds"];
-  if (seq.empty() || !seq.isSeq()) throw InputError(path, 0, "leds", "missing or not a sequence");
+  const YamlFile f(path, "LED map");
+  const cv::FileNode seq = f["leds"];
+  if (seq.empty()) f.fail("leds", "", "missing (expected a sequence of {id, freq_hz, x, y, z})");
+  f.expect_seq(seq, "leds", "");
   std::vector<Led> leds;
   std::size_t index = 0;
   for (auto it = seq.begin(); it != seq.end(); ++it, ++index) {
     const cv::FileNode n = *it;
-    if (!n.isMap()) throw InputError(path, 0, "leds", "LED #" + std::to_string(index + 1) + ": not a mapping");
+    const std::string number = "LED #" + std::to_string(index + 1);
+    if (!n.isMap()) f.fail("leds", number, "not a mapping {id, freq_hz, x, y, z}");
     Led l;
-    const cv::FileNode idn = n["id"];
-    if (idn.empty()) throw InputError(path, 0, "id", "LED #" + std::to_string(index + 1) + ": missing required field");
-    if (!idn.isInt()) throw InputError(path, 0, "id", "LED #" + std::to_string(index + 1) + ": not an integer");
-    l.id = static_cast<int>(idn);
-    l.freq_hz = read_number(path, index, n, "freq_hz", true, 0);
-    l.p_inW.x() = read_number(path, index, n, "x", true, 0);
-    l.p_inW.y() = read_number(path, index, n, "y", true, 0);
-    l.p_inW.z() = read_number(path, index, n, "z", true, 0);
-    l.duty = read_number(path, index, n, "duty", false, 0.5);
-    l.half_power_angle_deg = read_number(path, index, n, "half_power_angle_deg", false, 60.0);
-    l.power = read_number(path, index, n, "power", false, 1.0);
-    l.diameter_m = read_number(path, index, n, "diameter_m", false, 0.15);
+    const cv::FileNode idn = f.member(n, "id", number);
+    if (idn.empty()) f.fail("id", number, "missing required field");
+    l.id = f.integer(idn, "id", number);
+    const std::string label = led_label(index, l.id);
+    l.freq_hz = read_number(f, n, label, "freq_hz", true, 0);
+    l.p_inW.x() = read_number(f, n, label, "x", true, 0);
+    l.p_inW.y() = read_number(f, n, label, "y", true, 0);
+    l.p_inW.z() = read_number(f, n, label, "z", true, 0);
+    l.duty = read_number(f, n, label, "duty", false, 0.5);
+    l.half_power_angle_deg = read_number(f, n, label, "half_power_angle_deg", false, 60.0);
+    l.power = read_number(f, n, label, "power", false, 1.0);
+    l.diameter_m = read_number(f, n, label, "diameter_m", false, 0.15);
     leds.push_back(l);
   }
-  if (leds.empty()) throw InputError(path, 0, "leds", "the map holds no LED");
+  if (leds.empty()) f.fail("leds", "", "the map holds no LED");
   return LedMap(std::move(leds), path, options);
 }
 

@@ -97,7 +97,7 @@ ExternalPlugin::~ExternalPlugin() {
 }
 
 PluginSource::PluginSource(std::shared_ptr<const ExternalPlugin> plugin, const SourceSpec& spec)
-    : plugin_(std::move(plugin)), name_(spec.kind + ":" + spec.target) {
+    : plugin_(std::move(plugin)), name_(spec.kind + ":" + spec.target), limits_(spec.limits()) {
   const std::size_t comma = spec.text.find(',');
   const std::string params = comma == std::string::npos ? "" : spec.text.substr(comma + 1);
   char err[512] = {0};
@@ -118,6 +118,7 @@ PluginSource::~PluginSource() {
 }
 
 int PluginSource::take(SensorData d) {
+  if (!admit_plausible(d, limits_, drops(), name_)) return 1;
   staged_.push_back(std::move(d));
   return 0;
 }

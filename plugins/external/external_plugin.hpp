@@ -60,6 +60,7 @@ class PluginSource final : public Source {
   std::string name_;
   luxloc_host host_{};
   std::deque<SensorData> staged_;
+  SensorLimits limits_;  // samples beyond them are refused as "out of range"
   bool ended_ = false;
   std::atomic<bool> stop_{false};
   std::string failure_;

@@ -40,6 +40,10 @@ bool CsvRowSource::next_checked_row(SensorData& out) {
       drops().add(playback_drop::kBadRow, e.what());
       continue;
     }
+    if (const auto bad = check_plausible(s, limits_)) {
+      drops().add(playback_drop::kOutOfRange, InputError(reader_.path(), reader_.line(), bad->field, bad->what).what());
+      continue;
+    }
     const TimeNs t = sample_time(s);
     const long long key = duplicate_key(s);
     if (last_t_ && t < *last_t_) {

@@ -4,12 +4,16 @@
 // cannot be used (unparseable or non-finite number, too few fields, time going backwards,
 // duplicated timestamp) is skipped and counted in drops() under a reason, keeping the first
 // message ("imu.csv:12: field 'gx': not a number: 'abc'"), and reading carries on.
+// A row that parses but holds a value its sensor cannot measure (core/common/sensor_limits)
+// is counted as "out of range" before the time checks, so of two rows sharing a time stamp
+// the plausible one is kept.
 #include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "core/common/csv_reader.hpp"
+#include "core/common/sensor_limits.hpp"
 #include "core/pipeline/source.hpp"
 
 namespace luxloc {
@@ -19,8 +23,10 @@ namespace playback_drop {
 inline constexpr const char* kBadRow = "bad row";              // a field unparseable / out of range
 inline constexpr const char* kOutOfOrder = "out of order";     // t earlier than the previous row
 inline constexpr const char* kDuplicateTime = "duplicate time";  // same t (and same anchor for UWB)
-inline constexpr const char* kMissingFrame = "missing frame";  // image file absent or unreadable
+inline constexpr const char* kMissingFrame = "missing frame";  // image file absent
+inline constexpr const char* kBadFrame = "bad frame";          // image unreadable, truncated or corrupt
 inline constexpr const char* kFrameSize = "frame size";        // image size differs from camera.yaml
+inline constexpr const char* kOutOfRange = drop_reason::kOutOfRange;  // a value beyond the sensor's range
 }  // namespace playback_drop
 
 class CsvRowSource : public Source {
@@ -30,6 +36,8 @@ class CsvRowSource : public Source {
   // Rows handed out so far.
   std::uint64_t emitted() const { return emitted_; }
   const std::string& path() const { return reader_.path(); }
+  // The sensor's plausible ranges (session.yaml `sensor_limits`; defaults otherwise).
+  void set_limits(const SensorLimits& limits) { limits_ = limits; }
 
  protected:
   // Opens the file and reads its header; throws InputError when the file cannot be read
@@ -55,6 +63,7 @@ class CsvRowSource : public Source {
   CsvReader reader_;
 
  private:
+  SensorLimits limits_;
   std::string name_;
   std::optional<TimeNs> last_t_;
   std::vector<long long> keys_at_last_t_;

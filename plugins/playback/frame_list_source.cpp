@@ -1,28 +1,11 @@
 #include "plugins/playback/frame_list_source.hpp"
 
 #include <algorithm>
-#include <opencv2/imgcodecs.hpp>
 #include <thread>
 
 #include "core/common/input_error.hpp"
 
 namespace luxloc {
-namespace {
-
-// Empty when the file is absent or not an image. Checks first: imread() of a missing file
-// logs an OpenCV warning per frame.
-cv::Mat read_gray(const std::filesystem::path& p) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(p, ec)) return {};
-  try {
-    return cv::imread(p.string(), cv::IMREAD_GRAYSCALE);
-  } catch (const cv::Exception&) {
-    return {};
-  }
-}
-
-}  // namespace
-
 FrameListSource::FrameListSource(const std::string& path, std::filesystem::path base_dir,
                                  std::optional<cv::Size> expected_size, int decode_threads)
     : CsvRowSource(path, "playback:frames", {"t", "file"}),
@@ -58,8 +41,8 @@ bool FrameListSource::next(SensorData& out) {
       f.sample = std::get<FrameSample>(std::move(row));
       f.line = reader_.line();
       const std::filesystem::path p = base_dir_ / f.sample.file;
-      f.image = window_ > 1 ? std::async(std::launch::async, read_gray, p)
-                            : std::async(std::launch::deferred, read_gray, p);
+      f.image = window_ > 1 ? std::async(std::launch::async, read_gray_image, p)
+                            : std::async(std::launch::deferred, read_gray_image, p);
       in_flight_.push_back(std::move(f));
     }
     if (in_flight_.empty()) return false;
@@ -72,12 +55,14 @@ bool FrameListSource::next(SensorData& out) {
   }
 }
 
-bool FrameListSource::accept(FrameSample& s, cv::Mat image, int line) {
-  if (image.empty() || image.type() != CV_8UC1) {
-    drops().add(playback_drop::kMissingFrame,
-                InputError(path(), line, "file", "cannot read '" + s.file + "'").what());
+bool FrameListSource::accept(FrameSample& s, GrayImage decoded, int line) {
+  if (decoded.gray.empty()) {
+    const bool absent = decoded.error == "file not found";
+    drops().add(absent ? playback_drop::kMissingFrame : playback_drop::kBadFrame,
+                InputError(path(), line, "file", "cannot read '" + s.file + "': " + decoded.error).what());
     return false;
   }
+  cv::Mat image = std::move(decoded.gray);
   if (expected_size_ && image.size() != *expected_size_) {
     drops().add(playback_drop::kFrameSize,
                 InputError(path(), line, "file",

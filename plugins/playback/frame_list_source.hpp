@@ -2,8 +2,10 @@
 // frames.csv playback (SPEC.md): t,file — t is the start of exposure of row 0, file is
 // relative to the session folder (or absolute), PNG or JPG, gray or colour (converted to
 // 8-bit gray; sensor orientation kept, EXIF rotation ignored, FIELD_NOTES "decode in sensor
-// rows"). A missing or unreadable image ("missing frame") or one whose size differs from the
-// camera model ("frame size") is skipped and counted, never the end of the run.
+// rows"). A missing image ("missing frame"), an unreadable, truncated or corrupt one ("bad
+// frame", checked and decoded without the image libraries' stderr noise: image_file.hpp) or
+// one whose size differs from the camera model ("frame size") is skipped and counted, never
+// the end of the run.
 //
 // Image decoding (a noisy 640x480 PNG takes ~3 ms, far more than decoding its stripes) runs
 // ahead of the consumer on up to `decode_threads` worker threads, a bounded window of
@@ -17,6 +19,7 @@
 #include <opencv2/core/types.hpp>
 
 #include "plugins/playback/csv_row_source.hpp"
+#include "plugins/playback/image_file.hpp"
 
 namespace luxloc {
 
@@ -38,9 +41,9 @@ class FrameListSource : public CsvRowSource {
   struct InFlight {
     FrameSample sample;  // gray still empty
     int line = 0;
-    std::future<cv::Mat> image;
+    std::future<GrayImage> image;
   };
-  bool accept(FrameSample& s, cv::Mat image, int line);
+  bool accept(FrameSample& s, GrayImage image, int line);
 
   std::filesystem::path base_dir_;
   std::optional<cv::Size> expected_size_;

@@ -74,6 +74,8 @@ PlaybackSession open_playback(const fs::path& dir, const PlaybackOptions& option
   if (auto p = session_file(dir, c.odom_file, defaults.odom_file, "odom"))
     s.sources.push_back(std::make_unique<OdomCsvSource>(p->string()));
 
+  for (SourcePtr& src : s.sources) static_cast<CsvRowSource&>(*src).set_limits(c.limits);
+
   if (s.sources.empty())
     throw InputError(dir.string(), 0, "",
                      "no sensor file in the session folder (expected at least one of " + c.imu_file + ", " +

@@ -21,8 +21,6 @@ SensorData UwbCsvSource::parse_row(const CsvReader& row) {
     throw InputError(row.path(), row.line(), "anchor", "anchor id out of range");
   s.anchor = static_cast<int>(id);
   s.range_m = row.number(range_);
-  if (s.range_m < 0.0)
-    throw InputError(row.path(), row.line(), "range_m", "negative distance: " + std::string(row.field(range_)));
   s.aoa_rad = row.number_or(aoa_, std::numeric_limits<double>::quiet_NaN());
   return s;
 }

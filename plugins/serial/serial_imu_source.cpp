@@ -71,11 +71,21 @@ SerialImuOptions SerialImuOptions::from_spec(const SourceSpec& spec) {
     throw InputError("--source", 0, "time", "'" + spec.text + "': time must be arrival or device");
   o.csv.device_time = time == "device";
 
+  // Plausible ranges: the device's declared full scale where it has one (WitMotion), else
+  // the defaults; acc_max_g= / gyro_max_dps= override either.
+  SensorLimits declared;
+  if (o.protocol == SerialProtocol::witmotion) {
+    declared.acc_max_mps2 = o.witmotion.acc_range_g * SensorLimits::kStandardGravity;
+    declared.gyro_max_rad_s = o.witmotion.gyro_range_dps * 3.141592653589793 / 180.0;
+  }
+  o.limits = spec.limits(declared);
+
   static const char* known[] = {"baud", "protocol", "on_loss", "axes", "acc_range_g", "gyro_range_dps", "mag_scale",
                                 "columns", "acc_unit", "gyro_unit", "mag_unit", "time", "time_unit"};
   for (const auto& [key, value] : spec.params) {
     bool ok = false;
     for (const char* k : known) ok = ok || key == k;
+    for (const auto& k : SourceSpec::limit_keys()) ok = ok || key == k;
     if (!ok) throw InputError("--source", 0, key, "'" + spec.text + "': unknown option for serial-imu");
   }
   return o;
@@ -118,7 +128,8 @@ bool SerialImuSource::next(SensorData& out) {
         ++retimed_;
       }
       last_t_ = s.t;
-      ready_.push_back(options_.axes.identity() ? s : options_.axes.apply(s));
+      const ImuSample body = options_.axes.identity() ? s : options_.axes.apply(s);
+      if (admit_plausible(body, options_.limits, drops(), name())) ready_.push_back(body);
     }
   }
 }

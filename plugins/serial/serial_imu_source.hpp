@@ -41,6 +41,7 @@ struct SerialImuOptions {
   WitMotionOptions witmotion;
   CsvLineOptions csv;
   ImuAxisMap axes;
+  SensorLimits limits;  // samples beyond them are dropped as "out of range"
   OnLoss on_loss = OnLoss::end;
   double reopen_interval_s = 0.5;
   int poll_timeout_ms = 200;  // how often a blocked next() re-checks the stop flag anyway

@@ -31,6 +31,7 @@ SimSourceOptions SimSourceOptions::from_spec(const SourceSpec& spec) {
   const std::string rt = spec.get("realtime", "1");
   if (rt != "0" && rt != "1") throw InputError("--source", 0, "realtime", "realtime must be 0 or 1 in " + spec.text);
   o.realtime = rt == "1";
+  o.limits = spec.limits();
   return o;
 }
 
@@ -61,6 +62,12 @@ bool SimSource::wait_until(TimeNs t) {
 }
 
 bool SimSource::next(SensorData& out) {
+  while (next_simulated(out))
+    if (admit_plausible(out, options_.limits, drops(), name())) return true;
+  return false;
+}
+
+bool SimSource::next_simulated(SensorData& out) {
   if (t0_ < 0) t0_ = monotonic_now_ns();
   constexpr TimeNs kNone = std::numeric_limits<TimeNs>::max();
   // The next sample in time order: IMU sample, frame (its time is its row 0's exposure

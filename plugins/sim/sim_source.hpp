@@ -26,6 +26,7 @@ struct SimSourceOptions {
   std::string scenario = "walk";
   sim::SimOptions sim;
   bool realtime = true;
+  SensorLimits limits;  // the simulator's samples pass the same edge check as a device's
 
   // From a parsed --source spec; throws InputError (field = the key) for bad values.
   static SimSourceOptions from_spec(const SourceSpec& spec);
@@ -43,6 +44,8 @@ class SimSource final : public Source {
  private:
   // Sleeps until `t` (on the monotonic clock) or a stop; false when stopped.
   bool wait_until(TimeNs t);
+  // The next simulated sample, before the plausibility check.
+  bool next_simulated(SensorData& out);
 
   SimSourceOptions options_;
   sim::Simulator simulator_;

@@ -40,10 +40,12 @@ UwbSerialOptions UwbSerialOptions::from_spec(const SourceSpec& spec) {
   const double q = spec.get_number("min_quality", o.dwm1001.min_quality);
   if (!(q >= 0 && q <= 100)) throw InputError("--source", 0, "min_quality", "'" + spec.text + "': 0..100");
   o.dwm1001.min_quality = static_cast<int>(q);
+  o.limits = spec.limits();
   static const char* known[] = {"baud", "protocol", "on_loss", "init", "position", "min_quality"};
   for (const auto& [key, value] : spec.params) {
     bool ok = false;
     for (const char* k : known) ok = ok || key == k;
+    for (const auto& k : SourceSpec::limit_keys()) ok = ok || key == k;
     if (!ok) throw InputError("--source", 0, key, "'" + spec.text + "': unknown option for uwb");
   }
   return o;
@@ -93,6 +95,7 @@ bool UwbSerialSource::next(SensorData& out) {
     parsed_.clear();
     parser_->feed(stream_.bytes(), stream_.size(), stream_.arrival(), stream_.byte_ns(), parsed_);
     for (SensorData& d : parsed_) {
+      if (!admit_plausible(d, options_.limits, drops(), name())) continue;
       // Never decreasing (the ranges of one line share its time).
       std::visit([this](auto& s) {
         if (s.t < last_t_) s.t = last_t_;

@@ -33,6 +33,7 @@ struct UwbSerialOptions {
   int baud = 115200;
   UwbProtocol protocol = UwbProtocol::dwm1001;
   Dwm1001Options dwm1001;
+  SensorLimits limits;  // ranges (and fixes) beyond them are dropped as "out of range"
   bool init_lec = false;
   OnLoss on_loss = OnLoss::end;
   double reopen_interval_s = 0.5;

@@ -152,6 +152,8 @@ TEST_CASE("playback: UWB rows of several anchors may share a time stamp, aoa opt
   REQUIRE(s.sources.size() == 1);
   const auto rows = drain(*s.sources[0]);
   REQUIRE(rows.size() == 3);
+  CHECK(s.sources[0]->drops().count(playback_drop::kOutOfRange) == 1);  // the negative range
+  CHECK_THAT(first_message(*s.sources[0], playback_drop::kOutOfRange), Catch::Contains("uwb.csv:6: field 'range_m'"));
   const auto& a = std::get<UwbSample>(rows[0]);
   const auto& b = std::get<UwbSample>(rows[1]);
   CHECK(a.anchor == 1);
@@ -160,7 +162,7 @@ TEST_CASE("playback: UWB rows of several anchors may share a time stamp, aoa opt
   CHECK(b.range_m == Approx(3.5));
   CHECK(std::isnan(b.aoa_rad));
   CHECK(s.sources[0]->drops().count(playback_drop::kDuplicateTime) == 1);
-  CHECK(s.sources[0]->drops().count(playback_drop::kBadRow) == 2);
+  CHECK(s.sources[0]->drops().count(playback_drop::kBadRow) == 1);
 }
 
 TEST_CASE("playback: fixes and odometry stream with their optional columns", "[io]") {
@@ -207,7 +209,10 @@ TEST_CASE("playback: a missing frame or a frame of the wrong size is skipped and
   CHECK(jpg.gray.type() == CV_8UC1);
   CHECK(cv::mean(jpg.gray)[0] > 90.0);  // green-dominated colour converted to a mid gray
   CHECK(std::get<FrameSample>(out[2]).t == seconds_to_ns(0.15));
-  CHECK(src.drops().count(playback_drop::kMissingFrame) == 2);
+  CHECK(src.drops().count(playback_drop::kMissingFrame) == 1);
+  CHECK(src.drops().count(playback_drop::kBadFrame) == 1);
+  CHECK_THAT(first_message(src, playback_drop::kBadFrame),
+             Catch::Contains("frames.csv:6: field 'file': cannot read 'frames/000004.png': not a PNG or JPEG file"));
   CHECK(src.drops().count(playback_drop::kFrameSize) == 1);
   CHECK_THAT(first_message(src, playback_drop::kMissingFrame),
              Catch::Contains("frames.csv:3: field 'file': cannot read 'frames/000001.png'"));

@@ -1,0 +1,133 @@
+#include "core/common/yaml_reader.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <opencv2/core.hpp>
+
+#include "core/common/input_error.hpp"
+
+namespace luxloc {
+namespace {
+
+std::string type_name(const cv::FileNode& n) {
+  if (n.isMap()) return "a mapping";
+  if (n.isSeq()) return "a sequence";
+  if (n.isString()) return "a string ('" + static_cast<std::string>(n) + "')";
+  if (n.isInt() || n.isReal()) return "a number";
+  if (n.isNone() || n.empty()) return "empty";
+  return "an unknown node";
+}
+
+// Only "%YAML..." / "---" / comments / blank lines: nothing to parse.
+bool blank_text(const std::string& path) {
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) return false;
+  bool blank = true;
+  char line[256];
+  while (blank && std::fgets(line, sizeof line, f)) {
+    std::string l(line);
+    while (!l.empty() && (l.back() == '\n' || l.back() == '\r' || l.back() == ' ' || l.back() == '\t')) l.pop_back();
+    std::size_t i = l.find_first_not_of(" \t");
+    if (i == std::string::npos) continue;
+    l = l.substr(i);
+    if (l[0] == '#' || l.rfind("%YAML", 0) == 0 || l == "---" || l == "...") continue;
+    blank = false;
+  }
+  std::fclose(f);
+  return blank;
+}
+
+}  // namespace
+
+YamlFile::YamlFile(std::string path, const std::string& what) : path_(std::move(path)) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path_, ec)) throw InputError(path_, 0, "", "cannot open " + what);
+  if (blank_text(path_)) return;
+  try {
+    if (!fs_.open(path_, cv::FileStorage::READ | cv::FileStorage::FORMAT_YAML))
+      throw InputError(path_, 0, "", "cannot open " + what);
+    root_ = fs_.root();
+  } catch (const cv::Exception& e) {
+    throw InputError(path_, 0, "", "not a valid OpenCV YAML " + what + ": " + e.err);
+  }
+  if (yaml_absent(root_)) return;
+  if (!root_.isMap()) fail("", "", "the top level is " + type_name(root_) + ", expected a mapping of keys");
+}
+
+void YamlFile::fail(const std::string& key, const std::string& where, const std::string& what) const {
+  throw InputError(path_, 0, key, where.empty() ? what : where + ": " + what);
+}
+
+cv::FileNode YamlFile::member(const cv::FileNode& map, const char* key, const std::string& where) const {
+  if (yaml_absent(map)) return {};
+  if (!map.isMap()) fail(key, where, "is " + type_name(map) + ", expected a mapping");
+  try {
+    cv::FileNode n = map[key];
+    return yaml_absent(n) ? cv::FileNode() : n;
+  } catch (const cv::Exception& e) {
+    fail(key, where, "unreadable: " + e.err);
+  }
+}
+
+cv::FileNode YamlFile::operator[](const char* key) const { return member(root_, key, ""); }
+
+double YamlFile::number(const cv::FileNode& n, const std::string& key, const std::string& where) const {
+  if (!n.isReal() && !n.isInt()) fail(key, where, "not a number (" + type_name(n) + ")");
+  const double v = static_cast<double>(n);
+  if (!std::isfinite(v)) fail(key, where, "not finite");
+  return v;
+}
+
+int YamlFile::integer(const cv::FileNode& n, const std::string& key, const std::string& where) const {
+  if (!n.isInt()) fail(key, where, "not an integer (" + type_name(n) + ")");
+  return static_cast<int>(n);
+}
+
+std::string YamlFile::string(const cv::FileNode& n, const std::string& key, const std::string& where) const {
+  if (!n.isString()) fail(key, where, "not a string (" + type_name(n) + ")");
+  return static_cast<std::string>(n);
+}
+
+void YamlFile::expect_seq(const cv::FileNode& n, const std::string& key, const std::string& where) const {
+  if (!n.isSeq()) fail(key, where, "is " + type_name(n) + ", expected a sequence");
+}
+
+void YamlFile::expect_map(const cv::FileNode& n, const std::string& key, const std::string& where) const {
+  if (!n.isMap()) fail(key, where, "is " + type_name(n) + ", expected a mapping");
+}
+
+cv::Mat YamlFile::matrix(const cv::FileNode& n, const std::string& key) const {
+  if (yaml_absent(n)) return {};
+  // An opencv-matrix is a mapping {rows, cols, dt, data}; anything else makes OpenCV's
+  // reader assert, so check the shape first.
+  if (!n.isMap()) fail(key, "", "is " + type_name(n) + ", expected an opencv-matrix {rows, cols, dt, data}");
+  for (const char* k : {"rows", "cols"}) {
+    const cv::FileNode f = member(n, k, key);
+    if (yaml_absent(f) || !f.isInt() || static_cast<int>(f) <= 0 || static_cast<int>(f) > 4096)
+      fail(key, "", std::string("opencv-matrix: '") + k + "' must be an integer 1..4096");
+  }
+  const cv::FileNode dt = member(n, "dt", key);
+  if (yaml_absent(dt) || !dt.isString()) fail(key, "", "opencv-matrix: 'dt' must be a type string (d, f, i...)");
+  const cv::FileNode data = member(n, "data", key);
+  if (yaml_absent(data) || !data.isSeq()) fail(key, "", "opencv-matrix: 'data' must be a sequence of numbers");
+  const std::size_t want = static_cast<std::size_t>(static_cast<int>(n["rows"])) * static_cast<std::size_t>(static_cast<int>(n["cols"]));
+  if (data.size() != want)
+    fail(key, "", "opencv-matrix: 'data' holds " + std::to_string(data.size()) + " values, rows x cols = " +
+                      std::to_string(want));
+  for (auto it = data.begin(); it != data.end(); ++it)
+    if (!(*it).isReal() && !(*it).isInt()) fail(key, "", "opencv-matrix: 'data' holds something that is not a number");
+  cv::Mat m;
+  try {
+    n >> m;
+  } catch (const cv::Exception& e) {
+    fail(key, "", "not an opencv-matrix: " + e.err);
+  }
+  if (m.empty()) fail(key, "", "not an opencv-matrix");
+  if (m.channels() != 1) fail(key, "", "opencv-matrix: one channel expected");
+  m.convertTo(m, CV_64F);
+  for (int i = 0; i < m.rows * m.cols; ++i)
+    if (!std::isfinite(m.at<double>(i))) fail(key, "", "holds a non-finite value");
+  return m;
+}
+
+}  // namespace luxloc

@@ -1,0 +1,153 @@
+// Every YAML reader (LED map, camera, session.yaml, IMU calibration) turns a structural
+// error into an InputError naming the file and the key (exit 2), never an OpenCV assertion
+// such as "isMap() in function 'operator[]'" (core/common/yaml_reader).
+#include <catch2/catch.hpp>
+#include <functional>
+#include <map>
+
+#include "core/common/input_error.hpp"
+#include "core/common/session_file.hpp"
+#include "core/imu/imu_calibration.hpp"
+#include "core/vlc/camera_model.hpp"
+#include "core/vlc/led_map.hpp"
+#include "test_support.hpp"
+
+using namespace luxloc;
+namespace fs = std::filesystem;
+
+namespace {
+
+const char* kHead = "%YAML:1.0\n---\n";
+
+// Writes `text` to `file` in a scratch folder and expects `load(path)` to throw an
+// InputError naming the file, the field `field` and containing `words`.
+void expect_error(const std::string& file, const std::string& text, const std::function<void(const std::string&)>& load,
+                  const std::string& field, const std::string& words) {
+  static int n = 0;
+  const fs::path dir = test::scratch_dir("yaml_readers_" + std::to_string(++n));
+  const std::string path = (dir / file).string();
+  test::write_text(path, text);
+  INFO(file << ":\n" << text);
+  try {
+    load(path);
+    FAIL("no InputError");
+  } catch (const InputError& e) {
+    INFO(e.what());
+    CHECK(e.file() == path);
+    CHECK(e.field() == field);
+    CHECK_THAT(std::string(e.what()), Catch::Contains(words));
+  } catch (const std::exception& e) {
+    FAIL("not an InputError: " << e.what());
+  }
+}
+
+const std::string kMatrix3 = " !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: [ 500., 0., 320., 0., 500., 240., 0., 0., 1. ]\n";
+
+// A valid camera file with `key` replaced by `value` (the text after "key:").
+std::string camera_with(const std::string& key, const std::string& value) {
+  std::map<std::string, std::string> keys = {
+      {"image_width", " 640\n"}, {"image_height", " 480\n"}, {"camera_matrix", kMatrix3}, {"row_time_us", " 30.\n"}};
+  keys[key] = value;
+  std::string s = kHead;
+  for (const auto& [k, v] : keys) s += k + ":" + v;
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("LED map reader: structural errors name the file, the key and the LED", "[yaml]") {
+  const auto load = [](const std::string& p) { LedMap::load(p); };
+  const std::string led = "{ id: 3, freq_hz: 1500., x: 1., y: 2., z: 3. }";
+  expect_error("ledmap.yaml", std::string(kHead) + "- " + led + "\n", load, "", "top level is a sequence");
+  expect_error("ledmap.yaml", std::string(kHead) + "leds: 5\n", load, "leds", "expected a sequence");
+  expect_error("ledmap.yaml", std::string(kHead) + "leds: " + led + "\n", load, "leds", "expected a sequence");
+  expect_error("ledmap.yaml", std::string(kHead) + "leds: [ 1, 2 ]\n", load, "leds", "LED #1: not a mapping");
+  expect_error("ledmap.yaml", std::string(kHead) + "leds:\n  - " + led + "\n  - [ 1, 2 ]\n", load, "leds",
+               "LED #2: not a mapping");
+  expect_error("ledmap.yaml", std::string(kHead) + "leds:\n  - { id: { a: 1 }, freq_hz: 1500., x: 1., y: 2., z: 3. }\n",
+               load, "id", "LED #1: not an integer");
+  expect_error("ledmap.yaml", std::string(kHead) + "leds:\n  - { id: 3, freq_hz: [ 1, 2 ], x: 1., y: 2., z: 3. }\n",
+               load, "freq_hz", "LED #1 (id 3): not a number");
+  expect_error("ledmap.yaml", std::string(kHead) + "leds:\n  - id: 3\n    freq_hz: 1500.\n    x: { a: 1 }\n    y: 2.\n    z: 3.\n",
+               load, "x", "LED #1 (id 3)");
+  expect_error("ledmap.yaml", std::string(kHead) + "leds:\n  - { id: 3, freq_hz: 1500., x: abc, y: 2., z: 3. }\n", load, "x",
+               "not a number");
+  expect_error("ledmap.yaml", std::string(kHead) + "leds:\n  - { id: 3, freq_hz: 1500., x: 1., y: 2. }\n", load, "z",
+               "LED #1 (id 3): missing required field");
+  expect_error("ledmap.yaml", "", load, "leds", "missing");
+  expect_error("ledmap.yaml", std::string(kHead) + "leds: [\n", load, "", "YAML");
+  expect_error("ledmap.yaml", "\x01\x02 binary {{{ ]]] : : :\n", load, "", "");
+}
+
+TEST_CASE("camera reader: structural errors name the file and the key", "[yaml]") {
+  const auto load = [](const std::string& p) { CameraModel::load(p); };
+  CHECK(CameraModel::load(([] {
+          const fs::path dir = test::scratch_dir("yaml_readers_camera_ok");
+          test::write_text(dir / "camera.yaml", camera_with("row_time_us", " 30.\n"));
+          return (dir / "camera.yaml").string();
+        })()).width == 640);
+  expect_error("camera.yaml", std::string(kHead) + "- 1\n- 2\n", load, "", "top level is a sequence");
+  expect_error("camera.yaml", camera_with("camera_matrix", " 5\n"), load, "camera_matrix", "expected an opencv-matrix");
+  expect_error("camera.yaml", camera_with("camera_matrix", " [ 1, 2, 3 ]\n"), load, "camera_matrix",
+               "expected an opencv-matrix");
+  expect_error("camera.yaml", camera_with("camera_matrix", " { a: 1 }\n"), load, "camera_matrix", "rows");
+  expect_error("camera.yaml",
+               camera_with("camera_matrix", " !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: [ 1., 2. ]\n"),
+               load, "camera_matrix", "holds 2 values");
+  expect_error("camera.yaml",
+               camera_with("camera_matrix", " !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: 7\n"), load,
+               "camera_matrix", "'data' must be a sequence");
+  expect_error("camera.yaml",
+               camera_with("camera_matrix",
+                           " !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: 5\n   data: [1,2,3,4,5,6,7,8,9]\n"),
+               load, "camera_matrix", "'dt'");
+  expect_error("camera.yaml",
+               camera_with("camera_matrix",
+                           " !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: [1,2,3,4,[5],6,7,8,9]\n"),
+               load, "camera_matrix", "not a number");
+  expect_error("camera.yaml", camera_with("image_width", " { a: 1 }\n"), load, "image_width", "not a number");
+  expect_error("camera.yaml", camera_with("image_width", " 1e12\n"), load, "image_width", "whole number of pixels");
+  expect_error("camera.yaml", camera_with("image_height", " [ 480 ]\n"), load, "image_height", "not a number");
+  expect_error("camera.yaml", camera_with("distortion_coefficients", " abc\n"), load, "distortion_coefficients",
+               "expected an opencv-matrix");
+  expect_error("camera.yaml", camera_with("R_body_camera", " [ [1, 0, 0], [0, 1, 0], [0, 0, 1] ]\n"), load,
+               "R_body_camera", "expected an opencv-matrix");
+  expect_error("camera.yaml", camera_with("row_time_us", " { us: 30 }\n"), load, "row_time_us", "not a number");
+}
+
+TEST_CASE("session.yaml reader: structural errors name the file and the key", "[yaml]") {
+  const auto load = [](const std::string& p) { load_session_config(p); };
+  expect_error("session.yaml", std::string(kHead) + "- 1\n", load, "", "top level is a sequence");
+  expect_error("session.yaml", std::string(kHead) + "anchors: { id: 1, x: 0, y: 0, z: 2 }\n", load, "anchors",
+               "not a sequence");
+  expect_error("session.yaml", std::string(kHead) + "anchors: [ 1, 2 ]\n", load, "anchors", "anchor #1: not a mapping");
+  expect_error("session.yaml", std::string(kHead) + "anchors:\n  - { id: [ 1 ], x: 0, y: 0, z: 2 }\n", load,
+               "anchors.id", "anchor #1: not an integer");
+  expect_error("session.yaml", std::string(kHead) + "anchors:\n  - { id: 1, x: { a: 0 }, y: 0, z: 2 }\n", load,
+               "anchors.x", "anchor #1: not a number");
+  expect_error("session.yaml", std::string(kHead) + "device_height_m: [ 1.0 ]\n", load, "device_height_m", "not a number");
+  expect_error("session.yaml", std::string(kHead) + "imu: { file: imu.csv }\n", load, "imu", "not a file name");
+  expect_error("session.yaml", std::string(kHead) + "sensor_limits: 5\n", load, "sensor_limits", "expected a mapping");
+  expect_error("session.yaml", std::string(kHead) + "sensor_limits: { acc_max_g: -1 }\n", load,
+               "sensor_limits.acc_max_g", "must be > 0");
+  expect_error("session.yaml", std::string(kHead) + "sensor_limits: { gyro_max_dps: [ 1 ] }\n", load,
+               "sensor_limits.gyro_max_dps", "not a number");
+  // A valid one reads the limits.
+  const fs::path dir = test::scratch_dir("yaml_readers_session_ok");
+  test::write_text(dir / "session.yaml", std::string(kHead) + "sensor_limits: { acc_max_g: 8, range_max_m: 50 }\n");
+  const SessionConfig c = load_session_config((dir / "session.yaml").string());
+  CHECK(c.limits.acc_max_mps2 == Approx(8 * 9.80665));
+  CHECK(c.limits.range_max_m == Approx(50));
+  CHECK(c.limits.gyro_max_rad_s == Approx(SensorLimits{}.gyro_max_rad_s));
+}
+
+TEST_CASE("IMU calibration reader: structural errors name the file and the key", "[yaml]") {
+  const auto load = [](const std::string& p) { load_imu_calibration(p); };
+  expect_error("imu_calib.yaml", std::string(kHead) + "- [ 1, 2, 3 ]\n", load, "", "top level is a sequence");
+  expect_error("imu_calib.yaml", std::string(kHead) + "gyro_bias: abc\n", load, "gyro_bias", "sequence of 3 numbers");
+  expect_error("imu_calib.yaml", std::string(kHead) + "gyro_bias: [ 1, { a: 1 }, 3 ]\n", load, "gyro_bias",
+               "element 1: not a number");
+  expect_error("imu_calib.yaml", std::string(kHead) + "gyro_bias: [ 1, 2 ]\n", load, "gyro_bias", "expected 3 numbers");
+  expect_error("imu_calib.yaml", std::string(kHead) + "acc_scale: { rows: 1 }\n", load, "acc_scale", "opencv-matrix");
+  expect_error("imu_calib.yaml", std::string(kHead) + "acc_scale: [ 1, 1, 9 ]\n", load, "acc_scale", "[0.5, 2]");
+}
