@@ -122,6 +122,7 @@ void add_bench_command(CLI::App& root, Action& action) {
       ->capture_default_str();
   pf->add_option("--seed", args->seed, "random seed")->capture_default_str();
   pf->callback([&action, args] { action = [args] { return run_bench_pf(*args); }; });
+  add_bench_soak(*bench, action);
 }
 
 }  // namespace luxloc::app

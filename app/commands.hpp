@@ -22,6 +22,8 @@ void add_record_command(CLI::App& root, Action& action);
 void add_calib_ledmap(CLI::App& calib, Action& action);
 // `calib rowtime` (app/cmd_calib_rowtime.cpp), registered under `calib`.
 void add_calib_rowtime(CLI::App& calib, Action& action);
+// `bench soak` (app/cmd_bench_soak.cpp), registered under `bench`.
+void add_bench_soak(CLI::App& bench, Action& action);
 void add_devices_command(CLI::App& root, Action& action);
 void add_vlc_command(CLI::App& root, Action& action);
 

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 #include <algorithm>
+#include <csignal>
 
 #include "app/commands.hpp"
 #include "core/common/input_error.hpp"
@@ -35,6 +36,9 @@ std::vector<std::string> hoist_config(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // A closed output pipe (`luxloc run --out - | head`) is then a write error (EPIPE) that
+  // the outputs report with exit 1, not a silent death by SIGPIPE (plugins/output/text_file).
+  std::signal(SIGPIPE, SIG_IGN);
   CLI::App root{"luxloc — real-time indoor positioning: visible light, IMU, UWB and vision fusion"};
   root.set_version_flag("--version", std::string("luxloc ") + LUXLOC_VERSION);
   root.require_subcommand(1);

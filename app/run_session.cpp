@@ -283,7 +283,10 @@ OpenedSources open_run_sources(const RunConfig& c) {
   for (auto& s : live) session.sources.push_back(std::move(s));
 
   o.pipeline.realtime = c.realtime;
-  o.pipeline.live = o.live;
+  // Live merging (reorder window, drops instead of waiting) for sources that follow the
+  // wall clock; a live source that runs ahead of it (sim: with realtime=0) can wait.
+  o.pipeline.live = false;
+  for (const auto& s : session.sources) o.pipeline.live = o.pipeline.live || (s->live() && s->clock_follows_arrival());
   o.pipeline.clock_offsets_ns.assign(session.sources.size(), 0);
   for (const auto& co : c.clock_offsets) {
     const auto eq = co.find('=');
@@ -355,13 +358,18 @@ RunOutcome run_session(const RunConfig& cfg, std::ostream& log) {
   std::unique_ptr<SessionRecorder> recorder;
   if (!c.record.empty())
     recorder = std::make_unique<SessionRecorder>(c.record, session.map, session.camera, session.config);
+  opened.pipeline.probe = c.probe;
   Pipeline pipeline(std::move(session.sources), std::move(sinks), opened.pipeline);
   RunOutcome outcome;
   if (recorder) {
     TeeStage tee(*recorder, engine);
     CountingStage counted(tee, counters);
     outcome.pipeline = run_with_stop_signals(pipeline, counted);
-    const RecorderStats st = recorder->stats();
+    std::vector<PoseEstimate> none;
+    recorder->finish(none);
+    if (const std::string e = recorder->error(); !e.empty())
+      outcome.failures += "record: " + e + "; the recording stopped there, the fusion went on\n";
+    const RecorderStats st = recorder->error().empty() ? recorder->stats() : RecorderStats{};
     for (const auto& [file, n] : st.dropped)
       outcome.failures += "record: " + std::to_string(n) + " samples for " + file + " dropped (disk too slow)\n";
   } else {
@@ -374,6 +382,8 @@ RunOutcome run_session(const RunConfig& cfg, std::ostream& log) {
   outcome.groundtruth = session.groundtruth;
   for (const auto& s : outcome.pipeline.sources)
     if (!s.failure.empty()) outcome.failures += s.name + ": " + s.failure + "\n";
+  if (!outcome.pipeline.output_failure.empty())
+    outcome.failures += "output " + outcome.pipeline.output_failure + "; the run stopped\n";
   if (!c.quiet) print_report(outcome, log);
   return outcome;
 }
@@ -395,6 +405,10 @@ void print_report(const RunOutcome& r, std::ostream& log) {
       const std::uint64_t named = std::max<std::uint64_t>(e.messages.size(), 1);
       if (e.count > named) log << "    (" << e.count - named << " more " << reason << " not listed)\n";
     }
+    if (s.silences) log << "    silent " << s.silences << "x, came back each time (longest " << s.longest_silence_s << " s)\n";
+    if (s.clock_jumps)
+      log << "    clock jumped " << s.clock_jumps << "x, re-based onto the arrival clock (first jump " << std::showpos
+          << s.first_clock_jump_s << std::noshowpos << " s)\n";
     if (!s.failure.empty()) log << "    FAILED: " << s.failure << "\n";
   }
   const FusionStats& f = r.fusion;

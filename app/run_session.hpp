@@ -37,6 +37,8 @@ struct RunConfig {
   bool quiet = false;
   std::string record;  // --record DIR: also write every input sample into a session folder
   std::string status = "auto";  // live status line: auto (terminal) | on | off
+  // Not an option: called on the fusion thread (luxloc bench soak's RSS / queue monitor).
+  std::function<void(const PipelineProbe&)> probe;
 };
 
 struct RunOutcome {

@@ -4,6 +4,8 @@
 #include <memory>
 #include <thread>
 
+#include "core/pipeline/clock_rebase.hpp"
+#include "core/pipeline/source_silence.hpp"
 #include "core/pipeline/spsc_queue.hpp"
 
 namespace luxloc {
@@ -40,10 +42,21 @@ struct Lane {
   std::uint64_t fused = 0;  // touched by the fusion thread only
   DropCounts drops;         // the pipeline's own drops for this source
   std::string failure;      // written by the source thread before `done`
+  std::uint64_t clock_jumps = 0;  // source thread, read after the join
+  TimeNs first_jump_ns = 0;
+  bool end_seen = false;  // fusion thread: the end was noted
 };
 
 void shift_time(SensorData& d, TimeNs offset) {
   std::visit([offset](auto& s) { s.t += offset; }, d);
+}
+
+// A live source's clock that jumps is re-based onto the arrival clock (ClockRebase).
+void rebase_clock(ClockRebase& clock, SensorData& d, Clock::time_point arrival, Lane& lane) {
+  const TimeNs t = sample_time(d);
+  const TimeNs fixed = clock.apply(t, std::chrono::duration_cast<std::chrono::nanoseconds>(arrival.time_since_epoch()).count());
+  if (fixed != t) shift_time(d, fixed - t);
+  if (clock.jumped() && lane.clock_jumps++ == 0) lane.first_jump_ns = clock.last_jump_ns();
 }
 
 }  // namespace
@@ -70,12 +83,16 @@ PipelineReport Pipeline::run(FusionStage& stage) {
       Source& src = *sources_[i];
       Lane& lane = *lanes[i];
       const TimeNs offset = i < options_.clock_offsets_ns.size() ? options_.clock_offsets_ns[i] : 0;
+      const bool rebase = src.live() && src.clock_follows_arrival();
+      ClockRebase clock;
       Backoff backoff;
       try {
         SensorData d;
         while (!stop_.load(std::memory_order_relaxed) && src.next(d)) {
           if (offset != 0) shift_time(d, offset);
-          QueuedSample item{Sample{sample_time(d), static_cast<int>(i), std::move(d)}, Clock::now()};
+          const auto arrival = Clock::now();
+          if (rebase) rebase_clock(clock, d, arrival, lane);
+          QueuedSample item{Sample{sample_time(d), static_cast<int>(i), std::move(d)}, arrival};
           backoff.reset();
           while (!lane.queue.try_push(std::move(item))) {
             if (options_.live) {
@@ -98,14 +115,24 @@ PipelineReport Pipeline::run(FusionStage& stage) {
   // --- output thread: sinks never run on the fusion thread ---
   std::thread output_thread([&] {
     Backoff backoff;
+    // A sink that fails (disk full, closed pipe) is written no more and stops the run
+    // (like a signal: every pose computed so far still goes to the other sinks); its file
+    // keeps every complete row (TextFile).
+    std::vector<bool> failed(sinks_.size(), false);
+    auto sink_failed = [&](std::size_t k, const std::exception& e) {
+      failed[k] = true;
+      if (sink_failure.empty()) sink_failure = sinks_[k]->name() + ": " + e.what();
+      stop_.store(true, std::memory_order_relaxed);
+    };
     auto drain_one = [&]() {
       std::optional<PoseEstimate> p = poses.try_pop();
       if (!p) return false;
-      for (auto& sink : sinks_) {
+      for (std::size_t k = 0; k < sinks_.size(); ++k) {
+        if (failed[k]) continue;
         try {
-          sink->write(*p);
+          sinks_[k]->write(*p);
         } catch (const std::exception& e) {
-          if (sink_failure.empty()) sink_failure = sink->name() + ": " + e.what();
+          sink_failed(k, e);
         }
       }
       poses_written.fetch_add(1, std::memory_order_relaxed);
@@ -123,11 +150,12 @@ PipelineReport Pipeline::run(FusionStage& stage) {
       }
       backoff.wait();
     }
-    for (auto& sink : sinks_) {
+    for (std::size_t k = 0; k < sinks_.size(); ++k) {
+      if (failed[k]) continue;
       try {
-        sink->flush();
+        sinks_[k]->flush();
       } catch (const std::exception& e) {
-        if (sink_failure.empty()) sink_failure = sink->name() + ": " + e.what();
+        sink_failed(k, e);
       }
     }
   });
@@ -135,8 +163,14 @@ PipelineReport Pipeline::run(FusionStage& stage) {
   // --- fusion: merge by timestamp on this thread ---
   PipelineReport report;
   std::vector<PoseEstimate> out;
+  SourceSilence silence([&] {
+    std::vector<std::string> names;
+    for (const auto& src : sources_) names.push_back(src->name());
+    return names;
+  }());
   auto emit = [&] {
     for (auto& p : out) {
+      silence.annotate(p);
       Backoff b;
       while (!poses.try_push(std::move(p))) {
         if (options_.live) {
@@ -149,6 +183,7 @@ PipelineReport Pipeline::run(FusionStage& stage) {
     out.clear();
   };
   TimeNs last_t = std::numeric_limits<TimeNs>::min();
+  std::uint64_t fused_total = 0;
   bool have_first = false;
   TimeNs first_t = 0;
   Backoff backoff;
@@ -160,6 +195,10 @@ PipelineReport Pipeline::run(FusionStage& stage) {
       Lane& lane = *lanes[i];
       const bool done = lane.done.load(std::memory_order_acquire);
       const QueuedSample* head = lane.queue.peek();
+      if (done && !head && !lane.end_seen) {
+        lane.end_seen = true;
+        if (!lane.failure.empty()) silence.on_lost(i);
+      }
       if (head) {
         any_open = true;
         if (best < 0 || head->sample.t < best_t) {
@@ -198,6 +237,7 @@ PipelineReport Pipeline::run(FusionStage& stage) {
       continue;
     }
     last_t = item.sample.t;
+    if (sources_[static_cast<std::size_t>(best)]->live()) silence.on_sample(static_cast<std::size_t>(best), last_t);
     if (!have_first) {
       have_first = true;
       first_t = item.sample.t;
@@ -208,6 +248,15 @@ PipelineReport Pipeline::run(FusionStage& stage) {
     ++lane.fused;
     stage.process(item.sample, out);
     emit();
+    if (options_.probe && ++fused_total % PipelineOptions::kProbeEvery == 0) {
+      PipelineProbe probe;
+      probe.t = item.sample.t;
+      probe.queue_wait_s = std::chrono::duration<double>(Clock::now() - item.arrival).count();
+      for (const auto& l : lanes) probe.source_depths.push_back(l->queue.size_approx());
+      probe.pose_depth = poses.size_approx();
+      probe.fused = fused_total;
+      options_.probe(probe);
+    }
   }
   report.stopped = stop_.load(std::memory_order_relaxed);
   stage.finish(out);
@@ -227,6 +276,10 @@ PipelineReport Pipeline::run(FusionStage& stage) {
     sr.drops = sources_[i]->drops().snapshot();
     for (auto& [k, e] : lanes[i]->drops.snapshot()) sr.drops[k] = e;
     sr.failure = lanes[i]->failure;
+    sr.silences = silence.gaps(i).count;
+    sr.longest_silence_s = silence.gaps(i).longest_s;
+    sr.clock_jumps = lanes[i]->clock_jumps;
+    sr.first_clock_jump_s = ns_to_seconds(lanes[i]->first_jump_ns);
     report.sources.push_back(std::move(sr));
   }
   report.poses = poses_written.load();
@@ -234,7 +287,7 @@ PipelineReport Pipeline::run(FusionStage& stage) {
   report.first_t = first_t;
   report.last_t = have_first ? last_t : first_t;
   report.wall_s = std::chrono::duration<double>(Clock::now() - wall0).count();
-  if (!sink_failure.empty()) throw std::runtime_error("output failed: " + sink_failure);
+  report.output_failure = sink_failure;
   return report;
 }
 

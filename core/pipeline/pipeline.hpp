@@ -10,6 +10,7 @@
 // already fused is dropped and counted ("late").
 #include <atomic>
 #include <chrono>
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -20,6 +21,15 @@
 #include "core/pipeline/source.hpp"
 
 namespace luxloc {
+
+// What the fusion thread sees of the queues (for the soak benchmark and monitoring).
+struct PipelineProbe {
+  TimeNs t = 0;               // the sample just fused
+  double queue_wait_s = 0.0;  // how long it waited in its source's queue (wall clock)
+  std::vector<std::size_t> source_depths;  // samples waiting per source
+  std::size_t pose_depth = 0;              // poses waiting for the output thread
+  std::uint64_t fused = 0;                 // samples fused so far
+};
 
 struct PipelineOptions {
   std::size_t source_queue_capacity = 256;
@@ -33,6 +43,9 @@ struct PipelineOptions {
   // Per-source clock offsets (ns), added to every sample's time (indexed like sources;
   // missing entries are 0). E.g. the camera-IMU time offset.
   std::vector<TimeNs> clock_offsets_ns;
+  // Called on the fusion thread after every kProbeEvery-th fused sample (none: no cost).
+  std::function<void(const PipelineProbe&)> probe;
+  static constexpr std::uint64_t kProbeEvery = 1024;
 };
 
 struct SourceReport {
@@ -40,6 +53,13 @@ struct SourceReport {
   std::uint64_t samples = 0;  // handed to the fusion stage
   std::map<std::string, DropCounts::Entry> drops;  // source's own and the pipeline's
   std::string failure;
+  // Live sources: times the source fell silent and came back (core/pipeline/source_silence),
+  // the longest silence, and clock jumps re-based (core/pipeline/clock_rebase; the first
+  // one's size, s, > 0 when the clock jumped ahead).
+  std::uint64_t silences = 0;
+  double longest_silence_s = 0.0;
+  std::uint64_t clock_jumps = 0;
+  double first_clock_jump_s = 0.0;
 };
 
 struct PipelineReport {
@@ -48,7 +68,10 @@ struct PipelineReport {
   std::uint64_t poses_dropped = 0;
   TimeNs first_t = 0, last_t = 0;  // span of fused samples
   double wall_s = 0.0;
-  bool stopped = false;  // stop() was called (signal)
+  bool stopped = false;  // stop() was called (signal), or an output failed
+  // Non-empty when a sink failed (disk full, closed pipe): that sink was written no more
+  // and the run stopped; the other sinks got every pose.
+  std::string output_failure;
   double data_span_s() const { return ns_to_seconds(last_t - first_t); }
 };
 
@@ -59,8 +82,9 @@ class Pipeline {
   Pipeline(const Pipeline&) = delete;
   Pipeline& operator=(const Pipeline&) = delete;
 
-  // Runs to the end of every source (or until stop()); the fusion stage runs on the calling
-  // thread. Every pose the stage produced before the end is written and flushed.
+  // Runs to the end of every source (or until stop(), or until a sink fails); the fusion
+  // stage runs on the calling thread. Every pose the stage produced before the end is
+  // written and flushed.
   PipelineReport run(FusionStage& stage);
   // Thread-safe and async-signal-safe (sets an atomic flag only).
   void stop() { stop_.store(true, std::memory_order_relaxed); }

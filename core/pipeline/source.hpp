@@ -20,6 +20,11 @@ class Source {
   // Live sources: unblock next() and make it return false. Called from another thread.
   virtual void request_stop() {}
   virtual bool live() const { return false; }
+  // Live sources whose time stamps follow the monotonic clock at their arrival (stamped on
+  // arrival, a driver clock on CLOCK_MONOTONIC, the simulator in real time): the pipeline
+  // re-bases such a clock when it jumps (core/pipeline/clock_rebase.hpp). False for
+  // playback and for a simulator running ahead of real time.
+  virtual bool clock_follows_arrival() const { return live(); }
   // Non-empty when the stream ended through a failure (device lost, I/O error).
   virtual std::string failure() const { return {}; }
   // Samples skipped (bad rows, bad checksums...) by reason.

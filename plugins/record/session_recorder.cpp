@@ -11,16 +11,12 @@
 
 #include "core/common/input_error.hpp"
 #include "core/common/session_file.hpp"
+#include "plugins/output/text_file.hpp"
 
 namespace luxloc {
 namespace {
 
 namespace fs = std::filesystem;
-
-struct FileCloser {
-  void operator()(std::FILE* f) const { std::fclose(f); }
-};
-using File = std::unique_ptr<std::FILE, FileCloser>;
 
 // Exact seconds from the ns timeline: "12345.678901234" (parsing it back gives the same ns).
 std::string exact_seconds(TimeNs t) {
@@ -34,33 +30,50 @@ std::string exact_seconds(TimeNs t) {
 
 }  // namespace
 
-// Lives on the writer thread: opens each CSV at its first sample.
+// Lives on the writer thread: opens each CSV at its first sample. The CSVs are TextFiles:
+// after a write failure (disk full) each one holds only complete rows. The first failure
+// stops the recording (reported on stderr at once); the samples after it are not written,
+// and the fusion goes on.
 struct SessionRecorder::Writer {
   fs::path dir;
   int png_compression = 1;
-  std::map<std::string, File> files;
+  std::map<std::string, std::unique_ptr<TextFile>> files;
   std::map<std::string, std::uint64_t> written;
-  std::string error;  // first write failure
+  std::string error;  // first write failure: the recording stopped there
+  std::atomic<bool> stopped{false};
+  std::uint64_t not_written = 0;  // samples after the failure
   std::size_t frame_index = 0;
 
-  std::FILE* csv(const std::string& name, const char* header) {
+  void failed(const std::string& what) {
+    if (!error.empty()) return;
+    error = what;
+    stopped.store(true, std::memory_order_relaxed);
+    std::fprintf(stderr, "luxloc: record: %s; recording stopped (%s keeps what was written), the run goes on\n",
+                 what.c_str(), dir.c_str());
+  }
+  TextFile* csv(const std::string& name, const char* header) {
     auto it = files.find(name);
     if (it == files.end()) {
-      File f(std::fopen((dir / name).c_str(), "w"));
-      if (!f) {
-        if (error.empty()) error = "cannot write " + (dir / name).string();
+      try {
+        auto f = std::make_unique<TextFile>((dir / name).string());
+        f->write(header);
+        it = files.emplace(name, std::move(f)).first;
+      } catch (const std::exception& e) {
+        failed(e.what());
         return nullptr;
       }
-      std::fputs(header, f.get());
-      it = files.emplace(name, std::move(f)).first;
     }
     return it->second.get();
   }
   void row(const std::string& name, const char* header, const std::string& line) {
-    std::FILE* f = csv(name, header);
+    TextFile* f = csv(name, header);
     if (!f) return;
-    if (std::fputs(line.c_str(), f) < 0 && error.empty()) error = "error writing " + (dir / name).string();
-    ++written[name];
+    try {
+      f->write(line);
+      ++written[name];
+    } catch (const std::exception& e) {
+      failed(e.what());
+    }
   }
   // ",<v>" with 17 significant digits (round-trip exact); empty after the comma for NaN.
   static void field(std::string& line, double v) {
@@ -86,8 +99,15 @@ struct SessionRecorder::Writer {
     std::snprintf(name, sizeof name, "frames/%06zu.png", frame_index++);
     std::error_code ec;
     fs::create_directories(dir / "frames", ec);
-    if (!cv::imwrite((dir / name).string(), s.gray, {cv::IMWRITE_PNG_COMPRESSION, png_compression})) {
-      if (error.empty()) error = "cannot write " + (dir / name).string();
+    bool ok = false;
+    try {
+      ok = cv::imwrite((dir / name).string(), s.gray, {cv::IMWRITE_PNG_COMPRESSION, png_compression});
+    } catch (const cv::Exception&) {
+      ok = false;
+    }
+    if (!ok) {
+      fs::remove(dir / name, ec);  // no half-written PNG left behind
+      failed("cannot write " + (dir / name).string() + " (disk full?)");
       return;
     }
     std::string line = exact_seconds(s.t);
@@ -121,8 +141,11 @@ struct SessionRecorder::Writer {
   }
   void close() {
     for (auto& [name, f] : files) {
-      std::FILE* raw = f.release();
-      if ((std::ferror(raw) != 0 || std::fclose(raw) != 0) && error.empty()) error = "error writing " + name;
+      try {
+        if (!f->failed()) f->flush();
+      } catch (const std::exception& e) {
+        failed(e.what());
+      }
     }
     files.clear();
   }
@@ -156,6 +179,7 @@ SessionRecorder::~SessionRecorder() {
 }
 
 void SessionRecorder::process(const Sample& sample, std::vector<PoseEstimate>&) {
+  if (writer_->stopped.load(std::memory_order_relaxed)) return;  // a write failed: recording is over
   SensorData copy = sample.data;  // cv::Mat shares the pixels: no image copy
   if (!queue_.try_push(std::move(copy))) {
     static constexpr const char* kNames[] = {"imu.csv", "frames.csv", "uwb.csv", "fixes.csv", "odom.csv"};
@@ -165,13 +189,19 @@ void SessionRecorder::process(const Sample& sample, std::vector<PoseEstimate>&) 
 
 void SessionRecorder::writer_loop() {
   for (;;) {
+    const auto write = [this](const SensorData& d) {
+      if (writer_->stopped.load(std::memory_order_relaxed))
+        ++writer_->not_written;
+      else
+        std::visit([this](const auto& s) { writer_->write(s); }, d);
+    };
     if (std::optional<SensorData> d = queue_.try_pop()) {
-      std::visit([this](const auto& s) { writer_->write(s); }, *d);
+      write(*d);
       continue;
     }
     if (done_.load(std::memory_order_acquire)) {
       // The producer has stopped: whatever it pushed before is visible now.
-      while (std::optional<SensorData> d = queue_.try_pop()) std::visit([this](const auto& s) { writer_->write(s); }, *d);
+      while (std::optional<SensorData> d = queue_.try_pop()) write(*d);
       break;
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
@@ -189,5 +219,7 @@ RecorderStats SessionRecorder::stats() const {
   if (!writer_->error.empty()) throw std::runtime_error(writer_->error);
   return {writer_->written, dropped_};
 }
+
+std::string SessionRecorder::error() const { return writer_->error; }
 
 }  // namespace luxloc

@@ -7,7 +7,8 @@
 //
 // Recording never stalls the sources: the stage hands samples to a writer thread through a
 // bounded lock-free queue; when the disk falls behind and the queue is full, the sample is
-// dropped and counted per kind (reported at the end), and the pipeline goes on.
+// dropped and counted per kind (reported at the end), and the pipeline goes on. When a write
+// fails (disk full) the recording stops with a message on stderr and the pipeline goes on.
 #include <atomic>
 #include <filesystem>
 #include <map>
@@ -49,6 +50,9 @@ class SessionRecorder final : public FusionStage {
 
   // After finish(). Throws std::runtime_error when a write failed (disk full, ...).
   RecorderStats stats() const;
+  // After finish(): the write failure that stopped the recording (empty when none). The
+  // files then hold complete rows only, up to the failure.
+  std::string error() const;
 
  private:
   struct Writer;

@@ -1,10 +1,8 @@
 #include "plugins/v4l2/v4l2_camera.hpp"
 
 #include <fcntl.h>
-#include <libv4l2.h>
 #include <linux/videodev2.h>
 #include <poll.h>
-#include <sys/ioctl.h>
 #include <sys/mman.h>
 #include <unistd.h>
 
@@ -15,6 +13,7 @@
 #include <cstring>
 
 #include "plugins/serial/monotonic_clock.hpp"
+#include "plugins/v4l2/buffer_time.hpp"
 
 namespace luxloc {
 namespace {
@@ -31,11 +30,13 @@ std::string format_size(int w, int h) { return std::to_string(w) + "x" + std::to
 
 }  // namespace
 
-std::vector<V4l2Control> query_controls(int fd) {
+std::vector<V4l2Control> query_controls(int fd) { return query_controls(*libv4l2_io(), fd); }
+
+std::vector<V4l2Control> query_controls(V4l2Io& io, int fd) {
   std::vector<V4l2Control> out;
   v4l2_queryctrl q{};
   q.id = V4L2_CTRL_FLAG_NEXT_CTRL;
-  while (v4l2_ioctl(fd, VIDIOC_QUERYCTRL, &q) == 0) {
+  while (io.ioctl(fd, VIDIOC_QUERYCTRL, &q) == 0) {
     const std::uint32_t id = q.id;
     q.id |= V4L2_CTRL_FLAG_NEXT_CTRL;
     if ((q.flags & V4L2_CTRL_FLAG_DISABLED) || q.type == V4L2_CTRL_TYPE_CTRL_CLASS) continue;
@@ -49,7 +50,7 @@ std::vector<V4l2Control> query_controls(int fd) {
     if (!(q.flags & V4L2_CTRL_FLAG_WRITE_ONLY)) {
       v4l2_control v{};
       v.id = id;
-      if (v4l2_ioctl(fd, VIDIOC_G_CTRL, &v) == 0) {
+      if (io.ioctl(fd, VIDIOC_G_CTRL, &v) == 0) {
         c.value = v.value;
         c.readable = true;
       }
@@ -59,7 +60,7 @@ std::vector<V4l2Control> query_controls(int fd) {
         v4l2_querymenu m{};
         m.id = id;
         m.index = static_cast<std::uint32_t>(i);
-        if (v4l2_ioctl(fd, VIDIOC_QUERYMENU, &m) == 0) c.menu.emplace_back(i, cstr(m.name, sizeof m.name));
+        if (io.ioctl(fd, VIDIOC_QUERYMENU, &m) == 0) c.menu.emplace_back(i, cstr(m.name, sizeof m.name));
       }
     }
     out.push_back(std::move(c));
@@ -76,7 +77,8 @@ std::string describe_controls(const std::vector<V4l2Control>& controls) {
   return s.empty() ? "none" : s;
 }
 
-V4l2Camera::V4l2Camera(V4l2CameraOptions options) : options_(std::move(options)) {
+V4l2Camera::V4l2Camera(V4l2CameraOptions options, std::shared_ptr<V4l2Io> io)
+    : options_(std::move(options)), io_(io ? std::move(io) : libv4l2_io()) {
   try {
     open_device();
     negotiate_format();
@@ -85,7 +87,7 @@ V4l2Camera::V4l2Camera(V4l2CameraOptions options) : options_(std::move(options))
     start_streaming();
   } catch (...) {
     stop_streaming();
-    if (fd_ >= 0) v4l2_close(fd_);
+    if (fd_ >= 0) io_->close(fd_);
     fd_ = -1;
     throw;
   }
@@ -93,13 +95,13 @@ V4l2Camera::V4l2Camera(V4l2CameraOptions options) : options_(std::move(options))
 
 V4l2Camera::~V4l2Camera() {
   stop_streaming();
-  if (fd_ >= 0) v4l2_close(fd_);
+  if (fd_ >= 0) io_->close(fd_);
 }
 
 int V4l2Camera::xioctl(unsigned long request, void* arg) const {
   int r;
   do {
-    r = v4l2_ioctl(fd_, request, arg);
+    r = io_->ioctl(fd_, request, arg);
   } while (r == -1 && errno == EINTR);
   return r;
 }
@@ -108,7 +110,7 @@ void V4l2Camera::open_device() {
   const std::string& path = options_.path;
   // Plain open() and VIDIOC_QUERYCAP first, then libv4l2 takes the descriptor over
   // (v4l2_fd_open): a file that is no V4L2 device gets our message, not libv4l2's.
-  const int raw = ::open(path.c_str(), O_RDWR | O_NONBLOCK | O_CLOEXEC);
+  const int raw = io_->open(path, O_RDWR | O_NONBLOCK | O_CLOEXEC);
   if (raw < 0) {
     const int e = errno;
     if (e == ENOENT || e == ENODEV || e == ENXIO)
@@ -125,18 +127,18 @@ void V4l2Camera::open_device() {
   v4l2_capability cap{};
   int r;
   do {
-    r = ::ioctl(raw, VIDIOC_QUERYCAP, &cap);
+    r = io_->ioctl(raw, VIDIOC_QUERYCAP, &cap);
   } while (r == -1 && errno == EINTR);
   if (r != 0) {
     const int e = errno;
-    ::close(raw);
+    io_->close(raw);
     throw V4l2Error(V4l2Error::Kind::not_capture,
                     path + ": not a V4L2 device (VIDIOC_QUERYCAP failed: " + errno_text(e) + ")");
   }
-  fd_ = v4l2_fd_open(raw, 0);
+  fd_ = io_->fd_open(raw);
   if (fd_ < 0) {
     const int e = errno;
-    ::close(raw);
+    io_->close(raw);
     throw V4l2Error(V4l2Error::Kind::io, path + ": libv4l2 cannot take the device over: " + errno_text(e));
   }
   driver_ = cstr(cap.driver, sizeof cap.driver);
@@ -201,11 +203,16 @@ void V4l2Camera::negotiate_format() {
                                                              format_size(options_.width, options_.height) +
                                                              " failed: " + errno_text(e));
   }
+  // The driver may set another format than asked for (VIDIOC_S_FMT never fails for that):
+  // one we convert is taken with a note, unless the user named the format.
   const auto got = pixel_format_from_fourcc(fmt.fmt.pix.pixelformat);
-  if (!got || fmt.fmt.pix.pixelformat != chosen)
-    throw V4l2Error(V4l2Error::Kind::unsupported_format, options_.path + ": asked for " + fourcc_text(chosen) +
-                                                             ", the driver set " +
-                                                             fourcc_text(fmt.fmt.pix.pixelformat));
+  if (!got || (options_.format && *got != *options_.format))
+    throw V4l2Error(V4l2Error::Kind::unsupported_format,
+                    options_.path + ": asked for " + fourcc_text(chosen) + ", the driver set " +
+                        fourcc_text(fmt.fmt.pix.pixelformat) +
+                        (got ? "" : " (not one of GREY, YUYV, MJPEG: it cannot be converted)"));
+  if (fmt.fmt.pix.pixelformat != chosen && !(pixel_format_from_fourcc(chosen) == got))
+    notes_.push_back("asked for " + fourcc_text(chosen) + ", the driver set " + fourcc_text(fmt.fmt.pix.pixelformat));
   format_ = *got;
   layout_.width = static_cast<int>(fmt.fmt.pix.width);
   layout_.height = static_cast<int>(fmt.fmt.pix.height);
@@ -244,7 +251,7 @@ void V4l2Camera::set_frame_rate() {
 
 void V4l2Camera::set_exposure_and_gain() {
   if (!options_.exposure_us && !options_.gain) return;
-  const std::vector<V4l2Control> controls = query_controls(fd_);
+  const std::vector<V4l2Control> controls = query_controls(*io_, fd_);
   const auto find = [&](std::uint32_t id, bool (*by_name)(std::string_view)) -> const V4l2Control* {
     for (const V4l2Control& c : controls)
       if (c.id == id) return &c;
@@ -303,7 +310,20 @@ void V4l2Camera::set_exposure_and_gain() {
     set(*abs, units.units);
     v4l2_control v{};
     v.id = abs->id;
-    exposure_us_ = xioctl(VIDIOC_G_CTRL, &v) == 0 ? exposure_units_to_us(v.value) : units.applied_us;
+    if (xioctl(VIDIOC_G_CTRL, &v) == 0) {
+      // What the driver really set: it may clamp further than the range it reports (to the
+      // frame interval) or ignore the value (auto exposure still on).
+      exposure_us_ = exposure_units_to_us(v.value);
+      if (v.value != units.units) {
+        char buf[200];
+        std::snprintf(buf, sizeof buf, "%s: set %d (%.0f us), the camera reads back %d (%.0f us)%s",
+                      abs->ctl_name.c_str(), units.units, units.applied_us, v.value, *exposure_us_,
+                      v.value == abs->value ? ": it ignored the setting" : ": it clamped it");
+        notes_.emplace_back(buf);
+      }
+    } else {
+      exposure_us_ = units.applied_us;
+    }
     if (fps_ > 0 && *exposure_us_ > 1e6 / fps_)
       notes_.push_back("the exposure is longer than the frame interval: the camera caps it or lowers the frame rate");
   }
@@ -343,7 +363,7 @@ void V4l2Camera::start_streaming() {
     b.index = i;
     if (xioctl(VIDIOC_QUERYBUF, &b) != 0)
       throw V4l2Error(V4l2Error::Kind::io, options_.path + ": VIDIOC_QUERYBUF failed: " + errno_text(errno));
-    void* p = v4l2_mmap(nullptr, b.length, PROT_READ | PROT_WRITE, MAP_SHARED, fd_, b.m.offset);
+    void* p = io_->mmap(b.length, fd_, b.m.offset);
     if (p == MAP_FAILED) throw V4l2Error(V4l2Error::Kind::io, options_.path + ": mmap failed: " + errno_text(errno));
     buffers_.push_back({p, b.length});
     if (xioctl(VIDIOC_QBUF, &b) != 0)
@@ -364,13 +384,13 @@ void V4l2Camera::stop_streaming() noexcept {
     (void)xioctl(VIDIOC_STREAMOFF, &type);
     streaming_ = false;
   }
-  for (const Buffer& b : buffers_) v4l2_munmap(b.start, b.length);
+  for (const Buffer& b : buffers_) io_->munmap(b.start, b.length);
   buffers_.clear();
 }
 
 V4l2Camera::GrabStatus V4l2Camera::grab(int timeout_ms, int wake_fd, cv::Mat& gray, TimeNs& t) {
   pollfd p[2] = {{fd_, POLLIN, 0}, {wake_fd, POLLIN, 0}};
-  const int n = ::poll(p, wake_fd >= 0 ? 2 : 1, timeout_ms);
+  const int n = io_->poll(p, wake_fd >= 0 ? 2 : 1, timeout_ms);
   if (n < 0) {
     if (errno == EINTR) return GrabStatus::timeout;
     throw V4l2Error(V4l2Error::Kind::io, options_.path + ": poll failed: " + errno_text(errno));
@@ -396,14 +416,14 @@ V4l2Camera::GrabStatus V4l2Camera::grab(int timeout_ms, int wake_fd, cv::Mat& gr
                        std::min<std::size_t>(b.bytesused, buffers_[b.index].length), layout_, gray, error_)) {
     status = GrabStatus::bad_frame;
   }
-  if ((b.flags & V4L2_BUF_FLAG_TIMESTAMP_MASK) == V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC &&
-      (b.timestamp.tv_sec != 0 || b.timestamp.tv_usec != 0)) {
-    t = static_cast<TimeNs>(b.timestamp.tv_sec) * kNsPerSecond + static_cast<TimeNs>(b.timestamp.tv_usec) * 1000;
-    arrival_stamped_ = false;
-  } else {
-    t = arrival;
-    arrival_stamped_ = true;
-  }
+  timespec real{};
+  clock_gettime(CLOCK_REALTIME, &real);
+  const TimeNs stamp = static_cast<TimeNs>(b.timestamp.tv_sec) * kNsPerSecond +
+                       static_cast<TimeNs>(b.timestamp.tv_usec) * 1000;
+  const BufferTime bt = buffer_time(b.flags, stamp, arrival, static_cast<TimeNs>(real.tv_sec) * kNsPerSecond + real.tv_nsec);
+  t = bt.t;
+  clock_ = bt.clock;
+  arrival_stamped_ = bt.clock == BufferClock::arrival;
   if (xioctl(VIDIOC_QBUF, &b) != 0)
     throw V4l2Error(V4l2Error::Kind::io, options_.path + ": device lost (VIDIOC_QBUF: " + errno_text(errno) + ")");
   return status;

@@ -13,12 +13,16 @@
 // The exposure is set after the format and the frame interval: drivers clamp it to the
 // frame interval of the mode in force.
 //
-// Timestamps: with V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC the buffer's timestamp is on
-// CLOCK_MONOTONIC, the clock of our live timeline (plugins/serial/monotonic_clock.hpp),
-// and is used as is; otherwise the frame is stamped with CLOCK_MONOTONIC when it is
-// dequeued (later than the exposure by the readout and transfer) and arrival_stamped()
-// says so.
+// Timestamps (plugins/v4l2/buffer_time.hpp): with V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC the
+// buffer's timestamp is on CLOCK_MONOTONIC, the clock of our live timeline, and is used as
+// is; an old driver's CLOCK_REALTIME stamp (flag UNKNOWN) is moved onto it; otherwise the
+// frame is stamped with CLOCK_MONOTONIC when it is dequeued (later than the exposure by the
+// readout and transfer) and arrival_stamped() says so.
+//
+// Every device call goes through V4l2Io (plugins/v4l2/v4l2_io.hpp): the real libv4l2, or a
+// fake device in the tests.
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -27,8 +31,10 @@
 #include <opencv2/core/mat.hpp>
 
 #include "core/common/time.hpp"
+#include "plugins/v4l2/buffer_time.hpp"
 #include "plugins/v4l2/exposure_control.hpp"
 #include "plugins/v4l2/pixel_format.hpp"
+#include "plugins/v4l2/v4l2_io.hpp"
 
 namespace luxloc {
 
@@ -70,8 +76,9 @@ struct V4l2Control {
 
 class V4l2Camera {
  public:
-  // Opens and configures; streaming starts at once. Throws V4l2Error.
-  explicit V4l2Camera(V4l2CameraOptions options);
+  // Opens and configures; streaming starts at once. Throws V4l2Error. `io`: the device
+  // calls (nullptr: the real device through libv4l2; tests pass a fake device).
+  explicit V4l2Camera(V4l2CameraOptions options, std::shared_ptr<V4l2Io> io = nullptr);
   ~V4l2Camera();
   V4l2Camera(const V4l2Camera&) = delete;
   V4l2Camera& operator=(const V4l2Camera&) = delete;
@@ -91,6 +98,7 @@ class V4l2Camera {
   double fps() const { return fps_; }                     // as set by the driver (0 = unknown)
   std::optional<double> exposure_us() const { return exposure_us_; }  // as read back
   bool arrival_stamped() const { return arrival_stamped_; }
+  BufferClock clock() const { return clock_; }  // of the last frame's time stamp
   const std::string& last_error() const { return error_; }
   // What the driver changed from the request (resolution, frame rate, exposure clamped...).
   const std::vector<std::string>& notes() const { return notes_; }
@@ -105,6 +113,7 @@ class V4l2Camera {
   int xioctl(unsigned long request, void* arg) const;
 
   V4l2CameraOptions options_;
+  std::shared_ptr<V4l2Io> io_;
   int fd_ = -1;
   std::string driver_, card_;
   PixelFormat format_ = PixelFormat::yuyv;
@@ -113,6 +122,7 @@ class V4l2Camera {
   std::optional<double> exposure_us_;
   bool streaming_ = false;
   bool arrival_stamped_ = false;
+  BufferClock clock_ = BufferClock::arrival;
   struct Buffer {
     void* start = nullptr;
     std::size_t length = 0;
@@ -124,6 +134,7 @@ class V4l2Camera {
 
 // All controls of an open descriptor (VIDIOC_QUERYCTRL with V4L2_CTRL_FLAG_NEXT_CTRL).
 std::vector<V4l2Control> query_controls(int fd);
+std::vector<V4l2Control> query_controls(V4l2Io& io, int fd);
 // "exposure_time_absolute (1..5000 x 100 us), gain (0..255)": for messages.
 std::string describe_controls(const std::vector<V4l2Control>& controls);
 

@@ -104,8 +104,15 @@ TEST_CASE("CSV pose sink: header, column order and number format", "[io]") {
   CHECK(read_text(path).find("nan") == std::string::npos);
 }
 
-TEST_CASE("CSV pose sink: unwritable path and bad format are InputErrors", "[io]") {
-  CHECK_THROWS_AS(CsvPoseSink("/nonexistent-dir/x/poses.csv"), InputError);
+TEST_CASE("CSV pose sink: an unwritable path is a runtime error (exit 1), a bad format an InputError", "[io]") {
+  try {
+    CsvPoseSink sink("/nonexistent-dir/x/poses.csv");
+    FAIL("no error");
+  } catch (const InputError&) {
+    FAIL("an InputError (exit 2): an output that cannot be written is an I/O failure (exit 1)");
+  } catch (const std::runtime_error&) {
+  }
+  CHECK_THROWS_WITH(CsvPoseSink("/nonexistent-dir/x/poses.csv"), Catch::Contains("/nonexistent-dir/x/poses.csv"));
   CHECK(parse_pose_format("csv") == PoseFileFormat::kCsv);
   CHECK(parse_pose_format("tum") == PoseFileFormat::kTum);
   CHECK_THROWS_AS(parse_pose_format("kitti"), InputError);

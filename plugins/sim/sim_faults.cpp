@@ -1,0 +1,82 @@
+#include "plugins/sim/sim_faults.hpp"
+
+#include <cmath>
+
+#include "core/common/input_error.hpp"
+
+namespace luxloc {
+namespace {
+
+std::vector<std::string> split(const std::string& s, char sep) {
+  std::vector<std::string> out;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t end = s.find(sep, start);
+    out.push_back(s.substr(start, end == std::string::npos ? std::string::npos : end - start));
+    if (end == std::string::npos) return out;
+    start = end + 1;
+  }
+}
+
+double number(const SourceSpec& spec, const std::string& key, const std::string& text) {
+  try {
+    std::size_t used = 0;
+    const double v = std::stod(text, &used);
+    if (used == text.size() && std::isfinite(v)) return v;
+  } catch (const std::exception&) {
+  }
+  throw InputError("--source", 0, key, "'" + spec.text + "': " + key + ": '" + text + "' is not a number");
+}
+
+// "A:B/A:B..." -> pairs; `b_positive`: B must be > 0 (a duration).
+std::vector<std::pair<double, double>> pairs(const SourceSpec& spec, const std::string& key, bool b_positive) {
+  std::vector<std::pair<double, double>> out;
+  const std::string value = spec.get(key, "");
+  if (value.empty()) return out;
+  for (const std::string& item : split(value, '/')) {
+    const std::vector<std::string> ab = split(item, ':');
+    if (ab.size() != 2)
+      throw InputError("--source", 0, key,
+                       "'" + spec.text + "': " + key + " takes AT:" + (b_positive ? "SECONDS" : "OFFSET") +
+                           " (several separated by '/'), got '" + item + "'");
+    const double a = number(spec, key, ab[0]), b = number(spec, key, ab[1]);
+    if (a < 0 || (b_positive && !(b > 0)))
+      throw InputError("--source", 0, key, "'" + spec.text + "': " + key + ": the time must be >= 0" +
+                                               (b_positive ? " and the duration > 0" : ""));
+    out.emplace_back(a, b);
+  }
+  return out;
+}
+
+bool inside(const std::vector<SimFaults::Window>& ws, double t) {
+  for (const auto& w : ws)
+    if (t >= w.at_s && t < w.at_s + w.for_s) return true;
+  return false;
+}
+
+}  // namespace
+
+SimFaults SimFaults::from_spec(const SourceSpec& spec) {
+  SimFaults f;
+  const std::string die = spec.get("die", "");
+  if (!die.empty()) {
+    f.die_at_s = number(spec, "die", die);
+    if (*f.die_at_s < 0) throw InputError("--source", 0, "die", "'" + spec.text + "': die: the time must be >= 0");
+  }
+  for (const auto& [a, b] : pairs(spec, "stall", true)) f.stalls.push_back({a, b});
+  for (const auto& [a, b] : pairs(spec, "flood", true)) f.floods.push_back({a, b});
+  for (const auto& [a, b] : pairs(spec, "jump", false)) f.jumps.push_back({a, b});
+  return f;
+}
+
+bool SimFaults::stalled(double t_s) const { return inside(stalls, t_s); }
+bool SimFaults::flooding(double t_s) const { return inside(floods, t_s); }
+
+TimeNs SimFaults::clock_error_ns(double t_s) const {
+  TimeNs e = 0;
+  for (const Jump& j : jumps)
+    if (t_s >= j.at_s) e += seconds_to_ns(j.by_s);
+  return e;
+}
+
+}  // namespace luxloc

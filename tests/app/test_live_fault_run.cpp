@@ -1,0 +1,63 @@
+// `luxloc run` with live sources that fail, as a user sees it (real fusion, real binary):
+// the camera stalls for 5 s while the IMU's clock jumps by +10 s and back by -10 s.
+#include <catch2/catch.hpp>
+#include <sstream>
+
+#include "core/eval/trajectory_io.hpp"
+#include "test_support.hpp"
+
+using namespace luxloc::test;
+
+namespace {
+
+std::vector<std::string> csv_rows(const std::string& text) {
+  std::vector<std::string> rows;
+  std::istringstream in(text);
+  std::string line;
+  std::getline(in, line);  // header
+  while (std::getline(in, line)) rows.push_back(line);
+  return rows;
+}
+
+double field_t(const std::string& row) { return std::stod(row.substr(0, row.find(','))); }
+std::string field_mode(const std::string& row) { return row.substr(row.rfind(',') + 1); }
+
+}  // namespace
+
+TEST_CASE("Live fault: luxloc run, camera stalled 5 s and IMU clock jumping +10 s and -10 s: poses go on, both reported", "[live-fault][app]") {
+  const auto dir = scratch_dir("live_fault_run");
+  const auto poses = dir / "poses.csv";
+  const CommandResult r = run_luxloc(
+      "run --source sim:walk,streams=imu,duration=12,jump=3:+10/7:-10 "
+      "--source sim:walk,streams=frames,duration=12,stall=4:5 --out '" + poses.string() + "'");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  CHECK_THAT(r.output, Catch::Contains("source sim:walk/frames") && Catch::Contains("silent 1x, came back each time (longest 5.0"));
+  CHECK_THAT(r.output, Catch::Contains("clock jumped 2x, re-based onto the arrival clock (first jump +10.0"));
+  const std::vector<std::string> rows = csv_rows(read_text(poses));
+  REQUIRE(rows.size() > 400);  // 50 Hz over 12 s
+  const double t0 = field_t(rows.front());
+  double gap = 0.0, prev = t0;
+  int silent = 0, misplaced = 0, fused_after = 0, fused_before = 0;
+  for (const std::string& row : rows) {
+    const double t = field_t(row) - t0;
+    gap = std::max(gap, t + t0 - prev);
+    prev = t + t0;
+    const std::string mode = field_mode(row);
+    const bool marked = mode.find("(sim:walk/frames silent)") != std::string::npos;
+    silent += marked;
+    if (marked && (t < 4.0 || t > 9.2)) ++misplaced;
+    if (!marked && t > 5.0 && t < 8.8) ++misplaced;  // the whole stall, past its first 0.5 s
+    if (marked && t > 5.5 && t < 8.8 && mode.rfind("dead-reckoning", 0) != 0) ++misplaced;  // no fix for > 1 s
+    fused_before += t > 2.0 && t < 3.9 && mode == "fused";
+    fused_after += t > 10.0 && mode == "fused";
+  }
+  CHECK(silent > 150);  // about 4.5 s of 50 Hz poses
+  CHECK(misplaced == 0);
+  CHECK(fused_before > 50);
+  CHECK(fused_after > 50);                        // the camera came back and corrects again
+  CHECK(gap < 0.2);                               // no 10 s hole, no pause
+  CHECK(field_t(rows.back()) - t0 < 12.5);        // and not 10 s longer
+  const auto parsed = luxloc::read_pose_file(poses.string());
+  CHECK(parsed.size() == rows.size());
+}
