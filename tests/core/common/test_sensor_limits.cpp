@@ -21,7 +21,7 @@ ImuSample at_rest() {
 
 }  // namespace
 
-TEST_CASE("sensor limits: a sample at rest passes; each impossible IMU axis is named", "[limits]") {
+TEST_CASE("sensor limits: a sample at rest passes, each impossible IMU axis is named", "[limits]") {
   const SensorLimits l;
   CHECK_FALSE(check_plausible(at_rest(), l));
   const char* names[9] = {"ax", "ay", "az", "gx", "gy", "gz", "mx", "my", "mz"};
@@ -64,7 +64,7 @@ TEST_CASE("sensor limits: the defaults are 16 g, 2000 deg/s, 1000 uT, per axis",
   CHECK_FALSE(check_plausible(s, l));
 }
 
-TEST_CASE("sensor limits: UWB range 0-200 m, AOA finite when given; fixes and odometry bounded", "[limits]") {
+TEST_CASE("sensor limits: UWB range 0-200 m, AOA finite when given, fixes and odometry bounded", "[limits]") {
   const SensorLimits l;
   UwbSample u;
   u.range_m = 12.5;
