@@ -19,7 +19,10 @@ std::filesystem::path scratch_dir(const std::string& name) {
 std::filesystem::path shared_dir() { return std::filesystem::path(LUXLOC_SHARED_DIR); }
 
 CommandResult run_luxloc(const std::string& args) {
-  const std::string cmd = std::string("'") + LUXLOC_BIN + "' " + args + " 2>&1";
+  return run_command(std::string("'") + LUXLOC_BIN + "' " + args + " 2>&1");
+}
+
+CommandResult run_command(const std::string& cmd) {
   CommandResult r;
   FILE* pipe = popen(cmd.c_str(), "r");
   if (!pipe) throw std::runtime_error("popen failed: " + cmd);

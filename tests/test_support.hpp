@@ -16,6 +16,8 @@ struct CommandResult {
 };
 // Runs the built luxloc binary with `args` (a shell-quoted argument string).
 CommandResult run_luxloc(const std::string& args);
+// A shell command line through popen (add 2>&1 to capture stderr too).
+CommandResult run_command(const std::string& cmd);
 std::string read_text(const std::filesystem::path& p);
 void write_text(const std::filesystem::path& p, const std::string& text);
 

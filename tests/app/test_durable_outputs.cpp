@@ -15,18 +15,7 @@ namespace {
 
 const std::string kDemo = std::string(LUXLOC_SOURCE_DIR) + "/data/demo-walk";
 
-CommandResult shell(const std::string& script) {
-  const std::string cmd = "bash -c \"" + script + "\" 2>&1";
-  CommandResult r;
-  FILE* pipe = popen(cmd.c_str(), "r");
-  REQUIRE(pipe != nullptr);
-  std::array<char, 4096> buf{};
-  std::size_t n;
-  while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0) r.output.append(buf.data(), n);
-  const int status = pclose(pipe);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
+CommandResult shell(const std::string& script) { return run_command("bash -c \"" + script + "\" 2>&1"); }
 
 std::size_t lines(const std::string& text) { return static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n')); }
 
