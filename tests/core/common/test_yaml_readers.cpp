@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 #include <functional>
 #include <map>
+#include <unistd.h>
 
 #include "core/common/input_error.hpp"
 #include "core/common/session_file.hpp"
@@ -23,8 +24,10 @@ const char* kHead = "%YAML:1.0\n---\n";
 // InputError naming the file, the field `field` and containing `words`.
 void expect_error(const std::string& file, const std::string& text, const std::function<void(const std::string&)>& load,
                   const std::string& field, const std::string& words) {
+  // Each TEST_CASE runs as its own ctest process (in parallel), so a per-process counter
+  // alone collides across cases: the process id keeps the folders apart.
   static int n = 0;
-  const fs::path dir = test::scratch_dir("yaml_readers_" + std::to_string(++n));
+  const fs::path dir = test::scratch_dir("yaml_readers_" + std::to_string(::getpid()) + "_" + std::to_string(++n));
   const std::string path = (dir / file).string();
   test::write_text(path, text);
   INFO(file << ":\n" << text);
