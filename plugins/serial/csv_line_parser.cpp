@@ -155,6 +155,10 @@ void CsvLineParser::on_line(std::string_view line, TimeNs t_arrival, std::vector
   bool ok = true;
   for (int k = 1; k <= 6; ++k) ok = ok && field(k, v[k]);
   if (ok && options_.device_time) ok = field(0, v[0]);
+  // A device time beyond +/-4e9 s (year 2096 as a Unix time) is no clock; it would also
+  // overflow the ns offsets below (found by fuzz_csv_imu_line: t = 1e300).
+  constexpr double kMaxDeviceTimeS = 4.0e9;
+  if (ok && options_.device_time && !(std::abs(v[0] * options_.time_to_s) <= kMaxDeviceTimeS)) ok = false;
   if (!ok) {
     drops_.add(serial_drop::kBadLine, "unusable line: '" + std::string(line.substr(0, 80)) + "'");
     return;

@@ -77,6 +77,14 @@ TEST_CASE("CSV lines: configured columns, device time mapped onto the arrival cl
   CHECK(out[1].t == 5'010'000'000);
   CHECK(out[2].t == 5'019'000'000);
   CHECK(out[3].t == 5'030'000'000);
+  // Found by fuzz_csv_imu_line: an absurd device time (1e300 ms) overflowed the ns offset
+  // arithmetic; it is a bad line now, and the clock goes on as before.
+  line("7,1e300,0,0,9.8,0,0,0\n", 5'040'000'000);
+  line("7,-5e15,0,0,9.8,0,0,0\n", 5'041'000'000);
+  line("7,40,0,0,9.8,0,0,0\n", 5'060'000'000);
+  CHECK(drops.count(serial_drop::kBadLine) == 2);
+  REQUIRE(out.size() == 5);
+  CHECK(out[4].t == 5'060'000'000);
   CHECK_THROWS_WITH(CsvLineOptions::parse_columns("t:ax:ay:az:gx:gy"), Catch::Contains("missing 'gz'"));
   CHECK_THROWS_WITH(CsvLineOptions::parse_columns("ax:ay:az:gx:gy:gz:mx"), Catch::Contains("mx, my, mz"));
   CHECK_THROWS_WITH(CsvLineOptions::parse_columns("ax:ay:az:gx:gy:gz:q"), Catch::Contains("unknown column 'q'"));
