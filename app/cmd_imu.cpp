@@ -1,6 +1,8 @@
 // `luxloc imu`: a standalone attitude and heading reference (SEEDS.md C.1-C.3) for any IMU
 // log in SPEC.md's imu.csv form or a live serial IMU. One output row per IMU sample:
 //   t,roll,pitch,yaw,qw,qx,qy,qz   (s, rad ZYX Euler angles, quaternion body -> world ENU)
+// then what the filter learnt and refused at that sample:
+//   bias_gx,bias_gy,bias_gz,mag_rejected,acc_rejected,still   (rad/s, 0/1 flags)
 // Optional: pedestrian dead reckoning (--steps) and a comparison with a simulator's truth
 // (--truth), which prints the figures docs/IMU.md quotes.
 #include <algorithm>
@@ -39,8 +41,13 @@ struct ImuArgs {
   std::string steps;
   std::string step_model = "weinberg";
   bool no_mag = false;
-  double kp = MahonyOptions{}.kp;
-  double ki = MahonyOptions{}.ki;
+  double kp = kMahonyDefaults.kp;
+  double ki = kMahonyDefaults.ki;
+  double kp_heading = kMahonyDefaults.kp_heading;
+  double ki_heading = kMahonyDefaults.ki_heading;
+  double mag_gate_deg = kMahonyDefaults.mag_heading_gate_rad * 180.0 / std::numbers::pi;
+  double mag_rejection = kMahonyDefaults.mag_rejection;
+  bool no_bias_at_rest = false;
   double duration_s = 0.0;
 };
 
@@ -109,6 +116,11 @@ int run_imu(const ImuArgs& a) {
   MahonyOptions mo;
   mo.kp = a.kp;
   mo.ki = a.ki;
+  mo.kp_heading = a.kp_heading;
+  mo.ki_heading = a.ki_heading;
+  mo.mag_heading_gate_rad = a.mag_gate_deg * std::numbers::pi / 180.0;
+  mo.mag_rejection = a.mag_rejection;
+  mo.bias_at_rest = !a.no_bias_at_rest;
   mo.use_magnetometer = !a.no_mag;
   MahonyFilter ahrs(mo);
   PdrOptions po;
@@ -117,7 +129,8 @@ int run_imu(const ImuArgs& a) {
   const bool want_steps = !a.steps.empty();
 
   TextFile out(a.out);
-  out.write("t,roll,pitch,yaw,qw,qx,qy,qz\n");
+  // SPEC's columns first and in order; the filter's state after them.
+  out.write("t,roll,pitch,yaw,qw,qx,qy,qz,bias_gx,bias_gy,bias_gz,mag_rejected,acc_rejected,still\n");
   std::unique_ptr<TextFile> steps_out;
   if (want_steps) {
     steps_out = std::make_unique<TextFile>(a.steps);
@@ -133,6 +146,7 @@ int run_imu(const ImuArgs& a) {
   double se_roll = 0, se_pitch = 0, se_yaw = 0, yaw_err_end = 0;
   double yaw0_est = 0, yaw0_true = 0;
   std::size_t n_cmp = 0;
+  std::vector<double> yaw_abs_err;  // |yaw error| per compared sample, for the percentiles
   std::vector<double> step_times;
   Eigen::Vector2d p0 = Eigen::Vector2d::Zero();
   std::optional<TimeNs> t_first;
@@ -147,8 +161,10 @@ int run_imu(const ImuArgs& a) {
     if (!ahrs.initialized()) continue;
     const Eigen::Quaterniond& q = ahrs.q_BtoW();
     const double t = ns_to_seconds(s.t);
-    std::snprintf(line, sizeof line, "%.6f,%.6f,%.6f,%.6f,%.7f,%.7f,%.7f,%.7f\n", t, ahrs.roll(), ahrs.pitch(),
-                  ahrs.yaw(), q.w(), q.x(), q.y(), q.z());
+    const Eigen::Vector3d& b = ahrs.gyro_bias();
+    std::snprintf(line, sizeof line, "%.6f,%.6f,%.6f,%.6f,%.7f,%.7f,%.7f,%.7f,%.6f,%.6f,%.6f,%d,%d,%d\n", t,
+                  ahrs.roll(), ahrs.pitch(), ahrs.yaw(), q.w(), q.x(), q.y(), q.z(), b.x(), b.y(), b.z(),
+                  ahrs.last_mag_rejected() ? 1 : 0, ahrs.last_acc_rejected() ? 1 : 0, ahrs.still() ? 1 : 0);
     out.write(line);
     ++n;
     if (!truth.t.empty() && t >= truth.t.front() && t <= truth.t.back()) {
@@ -166,6 +182,7 @@ int run_imu(const ImuArgs& a) {
       se_roll += er * er;
       se_pitch += ep * ep;
       se_yaw += yaw_err_end * yaw_err_end;
+      yaw_abs_err.push_back(std::abs(yaw_err_end));
       ++n_cmp;
     }
     if (want_steps || !truth.t.empty()) {
@@ -198,11 +215,20 @@ int run_imu(const ImuArgs& a) {
 
   // Summary: to stderr when the attitude goes to stdout.
   std::FILE* info = out.is_stdout() ? stderr : stdout;
+  constexpr double kDeg = 180.0 / std::numbers::pi;
+  const AhrsRejections& rj = ahrs.rejections();
   std::fprintf(info, "imu: %llu samples from %s -> %s (gyro bias %.4f %.4f %.4f deg/s, %llu magnetometer samples rejected)\n",
-               static_cast<unsigned long long>(n), source->name().c_str(), a.out.c_str(),
-               ahrs.gyro_bias().x() * 180 / std::numbers::pi, ahrs.gyro_bias().y() * 180 / std::numbers::pi,
-               ahrs.gyro_bias().z() * 180 / std::numbers::pi,
-               static_cast<unsigned long long>(ahrs.mag_rejected_samples()));
+               static_cast<unsigned long long>(n), source->name().c_str(), a.out.c_str(), ahrs.gyro_bias().x() * kDeg,
+               ahrs.gyro_bias().y() * kDeg, ahrs.gyro_bias().z() * kDeg,
+               static_cast<unsigned long long>(rj.mag_samples));
+  // What the filter refused, always on stderr (the attitude may be on stdout).
+  std::fprintf(stderr,
+               "imu: rejected magnetometer %llu samples (%.1f s: magnitude %llu, dip %llu, heading %llu; %llu lasting "
+               "fields adopted), accelerometer %llu samples (%.1f s, off g)\n",
+               static_cast<unsigned long long>(rj.mag_samples), rj.mag_s,
+               static_cast<unsigned long long>(rj.mag_magnitude), static_cast<unsigned long long>(rj.mag_dip),
+               static_cast<unsigned long long>(rj.mag_heading), static_cast<unsigned long long>(rj.mag_adopted),
+               static_cast<unsigned long long>(rj.acc_samples), rj.acc_s);
   for (const auto& [reason, e] : source->drops().snapshot())
     std::fprintf(info, "imu: dropped %llu (%s), first: %s\n", static_cast<unsigned long long>(e.count),
                  reason.c_str(), e.first_message.c_str());
@@ -217,6 +243,14 @@ int run_imu(const ImuArgs& a) {
                  "truth: roll rms %.3f deg, pitch rms %.3f deg, yaw rms %.3f deg, yaw error at the end %.3f deg%s\n",
                  std::sqrt(se_roll / nn) * deg, std::sqrt(se_pitch / nn) * deg, std::sqrt(se_yaw / nn) * deg,
                  yaw_err_end * deg, a.no_mag ? " (heading relative to the start: no magnetometer)" : "");
+    // Percentiles of |yaw error| over every compared sample (nearest rank).
+    std::sort(yaw_abs_err.begin(), yaw_abs_err.end());
+    const auto pct = [&](double p) {
+      const std::size_t k = static_cast<std::size_t>(std::ceil(p * static_cast<double>(yaw_abs_err.size())));
+      return yaw_abs_err[std::clamp<std::size_t>(k, 1, yaw_abs_err.size()) - 1] * deg;
+    };
+    std::fprintf(info, "truth: yaw error p50 %.3f deg, p95 %.3f deg, max %.3f deg\n", pct(0.50), pct(0.95),
+                 yaw_abs_err.back() * deg);
     // Distance walked by the truth and the PDR end-point error.
     double walked = 0.0;
     for (std::size_t i = 1; i < truth.t.size(); ++i)
@@ -245,7 +279,8 @@ int run_imu(const ImuArgs& a) {
 void add_imu_command(CLI::App& root, Action& action) {
   auto args = std::make_shared<ImuArgs>();
   CLI::App* cmd = root.add_subcommand(
-      "imu", "attitude and heading reference (Mahony, SEEDS.md C): one row t,roll,pitch,yaw,qw,qx,qy,qz per IMU sample");
+      "imu", "attitude and heading reference (Mahony, SEEDS.md C): one row t,roll,pitch,yaw,qw,qx,qy,qz per IMU sample, then "
+      "bias_gx,bias_gy,bias_gz,mag_rejected,acc_rejected,still");
   auto* in = cmd->add_option("--in", args->in, "IMU log in SPEC imu.csv form, or a session folder holding imu.csv")
                  ->check(CLI::ExistingPath);
   auto* src = cmd->add_option("--source", args->source,
@@ -257,6 +292,20 @@ void add_imu_command(CLI::App& root, Action& action) {
   cmd->add_flag("--no-mag", args->no_mag, "ignore the magnetometer (yaw starts at 0 and is relative)");
   cmd->add_option("--kp", args->kp, "Mahony proportional gain")->check(CLI::NonNegativeNumber)->capture_default_str();
   cmd->add_option("--ki", args->ki, "Mahony integral gain")->check(CLI::NonNegativeNumber)->capture_default_str();
+  cmd->add_option("--kp-heading", args->kp_heading, "proportional gain of the magnetometer's heading error")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_option("--ki-heading", args->ki_heading, "integral gain of the heading error (gyro bias about the vertical)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_option("--mag-gate", args->mag_gate_deg, "heading innovation (deg) beyond which the field is a disturbance")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd->add_option("--mag-rejection", args->mag_rejection, "field magnitude change (fraction) rejected as a disturbance")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd->add_flag("--no-bias-at-rest", args->no_bias_at_rest,
+                "do not take the mean rate at standstills as the gyro bias (only the magnetometer learns it)");
   cmd->add_option("--steps", args->steps, "also run pedestrian dead reckoning; write t,length_m,heading_rad,x,y per step");
   cmd->add_option("--step-model", args->step_model, "step-length model")
       ->check(CLI::IsMember({"weinberg", "cadence", "constant"}))

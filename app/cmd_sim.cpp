@@ -4,12 +4,17 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <numbers>
+#include <optional>
+#include <sstream>
 #include <string>
 #include <tuple>
 #include <utility>
 #include <vector>
 
 #include "app/commands.hpp"
+#include "core/sim/imu_grade.hpp"
+#include "core/sim/mag_disturbance.hpp"
 #include "core/sim/scenario.hpp"
 #include "core/sim/session_writer.hpp"
 #include "core/sim/simulator.hpp"
@@ -30,7 +35,34 @@ struct SimArgs {
   int png_level = 1;
   int jpeg_quality = 95;
   double read_noise_dn = sim::RenderOptions{}.read_noise_dn;
+  // IMU model (empty / unset: the scenario's).
+  std::string imu_grade;
+  std::string mag_disturbance;
+  std::string gyro_bias_dps;  // "B" or "BX,BY,BZ": a fixed gyro bias
+  std::optional<double> gyro_bias_rw_dps;
+  std::optional<double> acc_bias_mps2;
+  std::optional<double> scale_error;
 };
+
+// "B" (every axis) or "BX,BY,BZ" in deg/s -> rad/s.
+Eigen::Vector3d parse_gyro_bias(const std::string& text) {
+  std::vector<double> v;
+  std::stringstream in(text);
+  std::string item;
+  try {
+    while (std::getline(in, item, ',')) {
+      std::size_t used = 0;
+      const double x = std::stod(item, &used);
+      if (used != item.size() || !std::isfinite(x) || std::abs(x) > 100.0) throw std::invalid_argument(item);
+      v.push_back(x * std::numbers::pi / 180.0);
+    }
+  } catch (const std::exception&) {
+    v.clear();
+  }
+  if (v.size() == 1) return Eigen::Vector3d::Constant(v[0]);
+  if (v.size() == 3) return {v[0], v[1], v[2]};
+  throw CLI::ValidationError("--gyro-bias-dps", "expected B or BX,BY,BZ in deg/s (|B| <= 100), got '" + text + "'");
+}
 
 // "A:B": two finite numbers; `option` and `form` ("START:DURATION") name them in messages.
 std::pair<double, double> parse_number_pair(const std::string& text, const char* option, const char* form) {
@@ -73,7 +105,17 @@ int run_sim(const SimArgs& a) {
   options.fps = a.fps;
   options.render.read_noise_dn = a.read_noise_dn;
   for (const std::string& b : a.blackouts) options.blackouts.push_back(parse_blackout(b));
-  const sim::Simulator simulator(sim::make_scenario(a.scenario), options);
+  sim::Scenario scenario = sim::make_scenario(a.scenario);
+  options.imu = sim::imu_grade(a.imu_grade.empty() ? scenario.imu_grade : a.imu_grade);
+  options.mag_disturbance = a.mag_disturbance.empty() ? scenario.mag_disturbance : a.mag_disturbance;
+  if (!a.gyro_bias_dps.empty()) {
+    options.imu.gyro_bias_fixed = true;
+    options.imu.gyro_bias_fixed_rps = parse_gyro_bias(a.gyro_bias_dps);
+  }
+  if (a.gyro_bias_rw_dps) options.imu.gyro_bias_rw_rps_sqrt_s = *a.gyro_bias_rw_dps * std::numbers::pi / 180.0;
+  if (a.acc_bias_mps2) options.imu.acc_bias_sigma_mps2 = *a.acc_bias_mps2;
+  if (a.scale_error) options.imu.gyro_scale_sigma = options.imu.acc_scale_sigma = *a.scale_error;
+  const sim::Simulator simulator(std::move(scenario), options);
 
   sim::SessionWriteOptions write;
   write.write_frames = !a.no_frames;
@@ -127,6 +169,22 @@ void add_sim_command(CLI::App& root, Action& action) {
   cmd->add_option("--read-noise", args->read_noise_dn, "sensor read noise, DN (1 sigma)")
       ->check(CLI::Range(0.0, 50.0))
       ->capture_default_str();
+  cmd->add_option("--imu-grade", args->imu_grade,
+                  "IMU model: default (the historic sim IMU), ideal, tactical, consumer (gyro bias up to 1 deg/s, "
+                  "bias walk, scale errors), poor (docs/SIMULATOR.md)")
+      ->check(CLI::IsMember(sim::imu_grade_names()));
+  cmd->add_option("--mag-disturbance", args->mag_disturbance,
+                  "magnetic disturbance: none, steel (a pillar beside the path at 30 % of the run), magnet (carried "
+                  "past at 60 %), both")
+      ->check(CLI::IsMember(sim::mag_disturbance_names()));
+  cmd->add_option("--gyro-bias-dps", args->gyro_bias_dps, "fixed gyro bias instead of the grade's draw: B or BX,BY,BZ")
+      ->each([](const std::string& s) { (void)parse_gyro_bias(s); });
+  cmd->add_option("--gyro-bias-rw", args->gyro_bias_rw_dps, "gyro bias random walk, deg/s per sqrt(s)")
+      ->check(CLI::Range(0.0, 1.0));
+  cmd->add_option("--acc-bias", args->acc_bias_mps2, "accelerometer bias sigma per axis, m/s^2")
+      ->check(CLI::Range(0.0, 2.0));
+  cmd->add_option("--scale-error", args->scale_error, "gyro and accelerometer scale-error sigma per axis (fraction)")
+      ->check(CLI::Range(0.0, 0.2));
   cmd->callback([args, &action] { action = [args] { return run_sim(*args); }; });
 }
 

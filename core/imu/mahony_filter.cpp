@@ -11,7 +11,7 @@ void MahonyFilter::set_mag_reference(const Eigen::Vector3d& mag_inB, const Eigen
   mag_ref_norm_ = mag_inB.norm();
   mag_ref_dip_ = -std::asin(std::clamp(mag_inB.normalized().dot(up_inB), -1.0, 1.0));
   mag_ref_valid_ = true;
-  mag_disturbed_since_ = -1;
+  mag_disturbed_s_ = -1.0;
 }
 
 void MahonyFilter::align(const Eigen::Vector3d& acc_inB, const Eigen::Vector3d* mag_inB) {
@@ -36,30 +36,48 @@ void MahonyFilter::align(const Eigen::Vector3d& acc_inB, const Eigen::Vector3d* 
   initialized_ = true;
 }
 
-Eigen::Vector3d MahonyFilter::magnetometer_error(const Eigen::Matrix3d& R, const ImuSample& s) {
+Eigen::Vector3d MahonyFilter::magnetometer_error(const Eigen::Matrix3d& R, const ImuSample& s, double dt,
+                                                 bool converging) {
   if (!s.has_mag || !options_.use_magnetometer || s.mag_inB.norm() < 1e-6) return Eigen::Vector3d::Zero();
   const Eigen::Vector3d m = s.mag_inB.normalized();
   const Eigen::Vector3d up_inB = R.transpose().col(2);
   if (!mag_ref_valid_) set_mag_reference(s.mag_inB, up_inB);  // aligned without a magnetometer
-  const double dip = -std::asin(std::clamp(m.dot(up_inB), -1.0, 1.0));
-  const bool disturbed = std::abs(s.mag_inB.norm() - mag_ref_norm_) > options_.mag_rejection * mag_ref_norm_ ||
-                         std::abs(dip - mag_ref_dip_) > options_.mag_dip_rejection_rad;
-  if (disturbed) {
-    if (mag_disturbed_since_ < 0) mag_disturbed_since_ = s.t;
-    if (ns_to_seconds(s.t - mag_disturbed_since_) < options_.mag_rejection_timeout_s) {
-      ++mag_rejected_;
-      return Eigen::Vector3d::Zero();
-    }
-    set_mag_reference(s.mag_inB, up_inB);  // a lasting change: the new normal
-  } else {
-    mag_disturbed_since_ = -1;
-  }
   // Reference field: the measured field rotated to the world, its horizontal part put on
   // north (+y, ENU), so the magnetometer only corrects heading (Mahony 2008, eq. 34). The
   // error is taken between the horizontal directions only: m x b of the unit vectors would
   // scale it by cos^2(dip) (~0.2 at mid latitudes), slowing the heading correction 5-fold.
   const Eigen::Vector3d h = R * m;
   const double h_horizontal = std::hypot(h.x(), h.y());
+  const double dip = -std::asin(std::clamp(m.dot(up_inB), -1.0, 1.0));
+  // Heading innovation: how far the field's horizontal direction is from north.
+  const double innovation = h_horizontal < 0.1 ? 0.0 : std::atan2(h.x(), h.y());
+  const bool bad_magnitude = std::abs(s.mag_inB.norm() - mag_ref_norm_) > options_.mag_rejection * mag_ref_norm_;
+  const bool bad_dip = std::abs(dip - mag_ref_dip_) > options_.mag_dip_rejection_rad;
+  // The heading gate needs a converged heading; after adopting a new field it waits until
+  // the heading agrees with it again.
+  if (mag_recovering_ && std::abs(innovation) < 0.5 * options_.mag_heading_gate_rad) mag_recovering_ = false;
+  const bool bad_heading = !converging && !mag_recovering_ && std::abs(innovation) > mag_heading_gate_now();
+  if (bad_magnitude || bad_dip || bad_heading) {
+    if (mag_disturbed_s_ < 0.0) mag_disturbed_s_ = 0.0;
+    // The clock runs only while moving: a still device has not walked into another field.
+    if (!still_.still()) mag_disturbed_s_ += dt;
+    if (mag_disturbed_s_ < options_.mag_rejection_timeout_s) {
+      ++rejections_.mag_samples;
+      rejections_.mag_s += dt;
+      if (bad_magnitude) ++rejections_.mag_magnitude;
+      if (bad_dip) ++rejections_.mag_dip;
+      if (bad_heading) ++rejections_.mag_heading;
+      last_mag_rejected_ = true;
+      return Eigen::Vector3d::Zero();
+    }
+    set_mag_reference(s.mag_inB, up_inB);  // a lasting change: the new normal
+    ++rejections_.mag_adopted;
+    mag_recovering_ = true;
+  } else {
+    mag_disturbed_s_ = -1.0;
+  }
+  // The field corrects the heading with time constant 1 / kp_heading: so shrinks the bound.
+  heading_drift_rad_ *= std::max(0.0, 1.0 - options_.kp_heading * dt);
   if (h_horizontal < 0.1) return Eigen::Vector3d::Zero();  // field nearly vertical: no heading
   // (h_xy / |h_xy|) x north, about world up: the sine of the heading error; applied about
   // the body's up axis.
@@ -87,22 +105,34 @@ void MahonyFilter::update(const ImuSample& s) {
   t_ = s.t;
 
   const Eigen::Matrix3d R = q_.toRotationMatrix();
-  Eigen::Vector3d e = Eigen::Vector3d::Zero();
-  const double a_norm = s.acc_inB.norm();
-  if (a_norm > 1e-6 && std::abs(a_norm - options_.gravity) < options_.acc_rejection * options_.gravity) {
-    const Eigen::Vector3d v_up_inB = R.transpose().col(2);  // predicted "up" in body
-    e += (s.acc_inB / a_norm).cross(v_up_inB);
-  }
-  e += magnetometer_error(R, s);
   const bool converging = ns_to_seconds(s.t - t_start_) < options_.init_duration_s;
+  Eigen::Vector3d e_acc = Eigen::Vector3d::Zero();
+  const double a_norm = s.acc_inB.norm();
+  last_acc_rejected_ = !(a_norm > 1e-6 && std::abs(a_norm - options_.gravity) < options_.acc_rejection * options_.gravity);
+  if (!last_acc_rejected_) {
+    const Eigen::Vector3d v_up_inB = R.transpose().col(2);  // predicted "up" in body
+    e_acc = (s.acc_inB / a_norm).cross(v_up_inB);
+  } else {
+    ++rejections_.acc_samples;
+    rejections_.acc_s += dt;
+  }
+  last_mag_rejected_ = false;
+  // The gyro's possible heading error grows while it integrates (the gate's widening).
+  const double yaw_rate = std::abs(R.row(2).dot(s.gyro_inB - bias_));
+  heading_drift_rad_ += (options_.gyro_bias_uncertainty_rps + options_.gyro_scale_uncertainty * yaw_rate) * dt;
+  const Eigen::Vector3d e_mag = magnetometer_error(R, s, dt, converging);
   const double kp = converging ? options_.kp_init : options_.kp;
+  const double kp_heading = converging ? options_.kp_init : options_.kp_heading;
   if (still_.still() && options_.bias_at_rest) {
     // At rest the mean rate is the bias (Earth's rate, < 0.005 deg/s, is below the noise).
     bias_ = still_.still_mean_gyro();
   } else if (!converging) {
-    bias_ -= options_.ki * e * dt;  // integral term: - bias estimate
+    // Integral terms (- bias estimate), each loop with its own gain: the magnetometer's
+    // error lies along the body's up axis, so it learns the bias about the vertical.
+    // After adopting a new field the heading error is an offset, not a bias: not integrated.
+    bias_ -= (options_.ki * e_acc + (mag_recovering_ ? 0.0 : options_.ki_heading) * e_mag) * dt;
   }
-  const Eigen::Vector3d w = s.gyro_inB - bias_ + kp * e;
+  const Eigen::Vector3d w = s.gyro_inB - bias_ + kp * e_acc + kp_heading * e_mag;
   last_gyro_corrected_ = s.gyro_inB - bias_;
 
   // q <- q * exp(w dt / 2)

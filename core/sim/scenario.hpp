@@ -27,6 +27,10 @@ struct Scenario {
   bool start_fix = false;           // fixes.csv with the true start position (relative navigation)
   std::vector<UwbAnchor> anchors;   // UWB anchors: non-empty -> uwb.csv and session.yaml anchors
   UwbSimOptions uwb;
+  // The IMU this scenario is simulated with (imu_grade.hpp) and its magnetic disturbance
+  // (mag_disturbance.hpp); `luxloc sim --imu-grade / --mag-disturbance` override them.
+  std::string imu_grade = "default";
+  std::string mag_disturbance = "none";
 };
 
 // "walk" (the default), "static", "square", "dense", "uwb", "floor".

@@ -122,6 +122,23 @@ void write_sim_truth(const Simulator& sim, const fs::path& p) {
   fs << "acc_bias_mps2" << vec(sim.imu_biases().acc) << "gyro_bias_rps" << vec(sim.imu_biases().gyro);
   fs << "acc_noise_mps2" << o.imu.acc_noise_mps2 << "gyro_noise_rps" << o.imu.gyro_noise_rps << "mag_noise_ut"
      << o.imu.mag_noise_ut << "mag_field_inW_ut" << vec(o.imu.mag_field_inW);
+  // The IMU grades' extras, only when used: historic sessions keep their exact file.
+  const ImuBiases& drawn = sim.imu_biases();
+  if (o.imu.gyro_scale_sigma > 0.0 || o.imu.acc_scale_sigma > 0.0)
+    fs << "gyro_scale" << vec(drawn.gyro_scale) << "acc_scale" << vec(drawn.acc_scale);
+  if (o.imu.gyro_bias_rw_rps_sqrt_s > 0.0)
+    fs << "gyro_bias_rw_rps_sqrt_s" << o.imu.gyro_bias_rw_rps_sqrt_s << "gyro_bias_end_rps"
+       << vec(sim.gyro_bias_track().back());
+  if (sim.magnetic_field().disturbed()) {
+    fs << "mag_disturbance" << o.mag_disturbance << "steel" << "[";
+    for (const SteelAnomaly& a : sim.magnetic_field().steel)
+      fs << "{:" << "x" << a.centre_inW.x() << "y" << a.centre_inW.y() << "radius_m" << a.radius_m << "delta_ut"
+         << vec(a.delta_ut) << "}";
+    fs << "]" << "magnets" << "[";
+    for (const MagnetPass& g : sim.magnetic_field().magnets)
+      fs << "{:" << "t_peak_s" << g.t_peak_s << "sigma_s" << g.sigma_s << "delta_ut" << vec(g.delta_ut) << "}";
+    fs << "]";
+  }
   fs << "led_phases" << "[";
   for (std::size_t i = 0; i < sim.scenario().map.size(); ++i)
     fs << "{:" << "id" << sim.scenario().map.leds()[i].id << "phase_s" << sim.led_phases_s()[i] << "}";

@@ -14,7 +14,9 @@ Simulator::Simulator(Scenario scenario, SimOptions options) : scenario_(std::mov
     throw std::invalid_argument("simulator: duration, fps and imu rate must be finite and > 0");
   if (!scenario_.trajectory) throw std::invalid_argument("simulator: scenario has no trajectory");
   std::mt19937_64 bias_rng = make_rng(opt_.seed, RandomStream::imu_biases);
-  biases_ = draw_imu_biases(opt_.imu, bias_rng);
+  std::mt19937_64 scale_rng = make_rng(opt_.seed, RandomStream::imu_scale);
+  biases_ = draw_imu_biases(opt_.imu, bias_rng, scale_rng);
+  field_ = make_magnetic_field(opt_.mag_disturbance, opt_.imu.mag_field_inW, *scenario_.trajectory, duration_s_);
   // Each LED's square wave starts at a random point of its period (unsynchronised drivers).
   std::mt19937_64 phase_rng = make_rng(opt_.seed, RandomStream::led_phases);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
@@ -29,12 +31,32 @@ std::size_t Simulator::imu_count() const {
   return static_cast<std::size_t>(std::ceil(duration_s_ * opt_.imu_rate_hz - 1e-9));
 }
 
+std::vector<Eigen::Vector3d> Simulator::gyro_bias_track() const {
+  // b(t_k+1) = b(t_k) + sigma_rw sqrt(dt) n_k, from a stream of its own (no draw without a walk).
+  std::vector<Eigen::Vector3d> track(imu_count(), biases_.gyro);
+  const double step = opt_.imu.gyro_bias_rw_rps_sqrt_s * std::sqrt(1.0 / opt_.imu_rate_hz);
+  if (!(step > 0.0)) return track;
+  std::mt19937_64 rng = make_rng(opt_.seed, RandomStream::imu_bias_walk);
+  std::normal_distribution<double> n(0.0, step);
+  for (std::size_t k = 1; k < track.size(); ++k) {
+    const double x = n(rng), y = n(rng), z = n(rng);
+    track[k] = track[k - 1] + Eigen::Vector3d(x, y, z);
+  }
+  return track;
+}
+
 std::vector<ImuSample> Simulator::imu_samples() const {
   std::mt19937_64 rng = make_rng(opt_.seed, RandomStream::imu_noise);
+  const std::vector<Eigen::Vector3d> bias = gyro_bias_track();
   std::vector<ImuSample> out;
   out.reserve(imu_count());
-  for (std::size_t k = 0; k < imu_count(); ++k)
-    out.push_back(synthesize_imu(truth(imu_time_s(k)), opt_.imu, biases_, rng));
+  ImuBiases b = biases_;
+  for (std::size_t k = 0; k < imu_count(); ++k) {
+    const BodyState s = truth(imu_time_s(k));
+    b.gyro = bias[k];
+    out.push_back(field_.disturbed() ? synthesize_imu(s, opt_.imu, b, rng, field_.at(s.p_BinW, s.t))
+                                     : synthesize_imu(s, opt_.imu, b, rng));
+  }
   return out;
 }
 

@@ -4,6 +4,7 @@
 // ground truth are produced on demand. Deterministic: same seed -> same samples.
 // Thread-safe for concurrent const use (frames can be rendered in parallel).
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "core/common/samples.hpp"
@@ -12,6 +13,7 @@
 #include "core/sim/floor_renderer.hpp"
 #include "core/sim/frame_renderer.hpp"
 #include "core/sim/imu_synth.hpp"
+#include "core/sim/mag_disturbance.hpp"
 #include "core/sim/scenario.hpp"
 
 namespace luxloc::sim {
@@ -32,6 +34,7 @@ struct SimOptions {
   double frame_offset_s = 0.005; // first frame's row 0 exposure start (camera and IMU clocks differ)
   std::vector<Blackout> blackouts;
   ImuNoise imu;
+  std::string mag_disturbance = "none";  // mag_disturbance_names(): steel, magnet, both
   RenderOptions render;
 };
 
@@ -43,7 +46,10 @@ class Simulator {
   const Scenario& scenario() const { return scenario_; }
   const SimOptions& options() const { return opt_; }
   double duration_s() const { return duration_s_; }
-  const ImuBiases& imu_biases() const { return biases_; }
+  const ImuBiases& imu_biases() const { return biases_; }  // gyro: at t = 0
+  const MagneticField& magnetic_field() const { return field_; }
+  // The gyro bias at each IMU sample (constant unless the grade walks it), rad/s.
+  std::vector<Eigen::Vector3d> gyro_bias_track() const;
   const std::vector<double>& led_phases_s() const { return phases_s_; }  // per LED of the map
 
   BodyState truth(double t_s) const { return scenario_.trajectory->state(t_s); }
@@ -66,6 +72,7 @@ class Simulator {
   SimOptions opt_;
   double duration_s_ = 0.0;
   ImuBiases biases_;
+  MagneticField field_;
   std::vector<double> phases_s_;
   std::shared_ptr<const FloorRenderer> floor_;  // floor_camera scenarios
 };

@@ -42,7 +42,11 @@ TEST_CASE("luxloc imu on a simulated walk: attitude rows and the done-when figur
   INFO(r.output);
   REQUIRE(r.exit_code == 0);
   const std::string att = test::read_text(out);
-  CHECK(att.rfind("t,roll,pitch,yaw,qw,qx,qy,qz\n", 0) == 0);
+  // SPEC's columns first and in order, then the filter's bias and verdicts.
+  CHECK(att.rfind("t,roll,pitch,yaw,qw,qx,qy,qz,bias_gx,bias_gy,bias_gz,mag_rejected,acc_rejected,still\n", 0) == 0);
+  CHECK_THAT(r.output, Catch::Contains("rejected magnetometer 0 samples"));
+  CHECK(figure(r.output, "yaw error p50") <= 1.0);
+  CHECK(figure(r.output, "p95") <= 2.0);
   CHECK(count_lines(att) == 9001);
   CHECK(figure(r.output, "roll rms") <= 1.0);
   CHECK(figure(r.output, "pitch rms") <= 1.0);

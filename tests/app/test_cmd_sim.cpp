@@ -122,3 +122,22 @@ TEST_CASE("luxloc sim: bad usage exits 2 with a useful message", "[sim]") {
   CHECK(run_luxloc("sim --duration 2").exit_code == 2);  // --out is required
   CHECK(std::filesystem::is_empty(dir));
 }
+
+TEST_CASE("luxloc sim --imu-grade, --mag-disturbance and the explicit IMU options", "[sim]") {
+  const auto dir = test::scratch_dir("cmd_sim_imu_grade");
+  const auto r = run_luxloc("sim --out '" + dir.string() +
+                            "' --scenario static --duration 3 --no-frames --imu-grade consumer --mag-disturbance both "
+                            "--gyro-bias-dps 0,0,0.8 --gyro-bias-rw 0.01 --scale-error 0.01 --acc-bias 0.1");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  const std::string truth = read_text(dir / "sim_truth.yaml");
+  CHECK(truth.find("mag_disturbance: both") != std::string::npos);
+  CHECK(truth.find("gyro_scale") != std::string::npos);
+  CHECK(truth.find("gyro_bias_end_rps") != std::string::npos);
+  CHECK(truth.find("data: [ 0., 0., 1.39626340159546") != std::string::npos);  // 0.8 deg/s in rad/s
+  const auto bad = test::scratch_dir("cmd_sim_imu_grade_bad");
+  CHECK(run_luxloc("sim --out '" + bad.string() + "' --imu-grade superb").exit_code == 2);
+  CHECK(run_luxloc("sim --out '" + bad.string() + "' --mag-disturbance lava").exit_code == 2);
+  CHECK(run_luxloc("sim --out '" + bad.string() + "' --gyro-bias-dps 1,2").exit_code == 2);
+  CHECK(std::filesystem::is_empty(bad));
+}
