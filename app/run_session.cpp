@@ -473,6 +473,9 @@ void print_report(const RunOutcome& r, std::ostream& log) {
   if (r.vo.frames)
     log << "  vo: " << r.vo.frames << " frames, " << r.vo.motions << " motions fitted, " << r.vo.accepted
         << " velocity updates used, " << r.vo.rejected << " refused\n";
+  if (p.paced && p.latency.count)
+    log << "  latency (newest input to the outputs): p50 " << std::setprecision(2) << 1e3 * p.latency.p50_s << " ms, p99 "
+        << 1e3 * p.latency.p99_s << " ms, max " << 1e3 * p.latency.max_s << " ms over " << p.latency.count << " poses\n";
   if (p.poses_dropped) log << "  outputs: " << p.poses_dropped << " poses dropped (output too slow)\n";
   log.unsetf(std::ios::floatfield);
 }

@@ -64,6 +64,7 @@ PipelineReport Pipeline::run(FusionStage& stage) {
   Doorbell input_bell, pose_bell, space_bell, pose_space_bell;
   std::atomic<std::uint64_t> poses_written{0}, poses_dropped{0};
   std::string sink_failure;
+  LatencyHistogram latency;  // the output thread's
 
   // --- one thread per source ---
   std::vector<std::thread> source_threads;
@@ -123,6 +124,12 @@ PipelineReport Pipeline::run(FusionStage& stage) {
       std::optional<PoseEstimate> p = poses.try_pop();
       if (!p) return false;
       pose_space_bell.ring();
+      if (p->input_arrival_ns != 0) {
+        p->latency_s = 1e-9 * static_cast<double>(
+                                  std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now().time_since_epoch()).count() -
+                                  p->input_arrival_ns);
+        latency.add(p->latency_s);
+      }
       for (std::size_t k = 0; k < sinks_.size(); ++k) {
         if (failed[k]) continue;
         try {
@@ -165,10 +172,12 @@ PipelineReport Pipeline::run(FusionStage& stage) {
     for (const auto& src : sources_) names.push_back(src->name());
     return names;
   }());
+  std::int64_t newest_arrival_ns = 0;  // of the samples fused so far
   auto emit = [&] {
     if (out.empty()) return;
     for (auto& p : out) {
       silence.annotate(p);
+      p.input_arrival_ns = newest_arrival_ns;
       IdleWait b;
       for (;;) {
         const std::uint64_t ticket = pose_space_bell.ticket();
@@ -249,8 +258,11 @@ PipelineReport Pipeline::run(FusionStage& stage) {
     }
     if (options_.realtime) {
       std::this_thread::sleep_until(wall0 + std::chrono::nanoseconds(item.sample.t - first_t));
+      item.arrival = Clock::now();  // paced playback: a sample "arrives" when its time comes
     }
     ++lane.fused;
+    newest_arrival_ns = std::max<std::int64_t>(
+        newest_arrival_ns, std::chrono::duration_cast<std::chrono::nanoseconds>(item.arrival.time_since_epoch()).count());
     stage.process(item.sample, out);
     emit();
     if (options_.probe && ++fused_total % PipelineOptions::kProbeEvery == 0) {
@@ -294,6 +306,8 @@ PipelineReport Pipeline::run(FusionStage& stage) {
   report.last_t = have_first ? last_t : first_t;
   report.wall_s = std::chrono::duration<double>(Clock::now() - wall0).count();
   report.output_failure = sink_failure;
+  report.latency = latency.summary();
+  report.paced = options_.live || options_.realtime;
   return report;
 }
 

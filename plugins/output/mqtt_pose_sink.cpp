@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/common/input_error.hpp"
+#include "core/pipeline/latency_stats.hpp"
 #include "plugins/output/json_text.hpp"
 #include "plugins/output/pose_text.hpp"
 #include "plugins/output/udp_pose_sink.hpp"
@@ -154,6 +155,7 @@ class MqttPoseSink::Client {
       std::lock_guard lock(mutex_);
       last_pose_ = pose;
       have_pose_ = true;
+      latency_.add(pose.latency_s);
     }
     if (!connected()) {
       drops_.add("no broker", "mqtt:" + spec_ + ": not connected");
@@ -232,6 +234,10 @@ class MqttPoseSink::Client {
         if (!last_pose_.mode.empty()) s.add_string("mode", last_pose_.mode);
       }
       s.add_number("poses", std::to_string(poses()));
+      if (const LatencySummary l = latency_.summary(); l.count > 0) {
+        s.add_number("latency_p50_ms", format_fixed(1e3 * l.p50_s, 3));
+        s.add_number("latency_p99_ms", format_fixed(1e3 * l.p99_s, 3));
+      }
       JsonObject rates, source_drops;
       for (std::size_t i = 0; i < monitor_.source_names.size(); ++i) {
         if (monitor_.counters && i < monitor_.counters->size()) {
@@ -261,10 +267,11 @@ class MqttPoseSink::Client {
   mosquitto* mosq_ = nullptr;
   std::atomic<bool> connected_{false};
   std::atomic<std::uint64_t> handed_{0}, written_{0}, poses_{0};
-  std::mutex mutex_;  // last_pose_, have_pose_, stopping_
+  std::mutex mutex_;  // last_pose_, have_pose_, latency_, stopping_
   std::condition_variable wake_;
   PoseEstimate last_pose_;
   bool have_pose_ = false;
+  LatencyWindow latency_{1024};
   bool stopping_ = false;
   std::thread status_thread_;
 };

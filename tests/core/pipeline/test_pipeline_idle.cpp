@@ -68,9 +68,13 @@ struct EchoStage : FusionStage {
 
 struct TimingSink : PoseSink {
   std::vector<Clock::time_point>* written;
+  std::vector<double> latencies;
   explicit TimingSink(std::vector<Clock::time_point>* w) : written(w) {}
   std::string name() const override { return "timing"; }
-  void write(const PoseEstimate&) override { written->push_back(Clock::now()); }
+  void write(const PoseEstimate& p) override {
+    written->push_back(Clock::now());
+    latencies.push_back(p.latency_s);
+  }
 };
 
 }  // namespace
@@ -110,7 +114,9 @@ TEST_CASE("A sample after a silence wakes the sleeping pipeline at once", "[pipe
   sources.push_back(std::move(source));
   std::vector<Clock::time_point> written;
   std::vector<PoseSinkPtr> sinks;
-  sinks.push_back(std::make_unique<TimingSink>(&written));
+  auto timing = std::make_unique<TimingSink>(&written);
+  const TimingSink* sink = timing.get();
+  sinks.push_back(std::move(timing));
   PipelineOptions o;
   o.live = true;
   Pipeline p(std::move(sources), std::move(sinks), o);
@@ -120,9 +126,17 @@ TEST_CASE("A sample after a silence wakes the sleeping pipeline at once", "[pipe
     p.stop();
     src->request_stop();
   });
-  p.run(stage);
+  const PipelineReport report = p.run(stage);
   stopper.join();
   REQUIRE(written.size() == 6);
+  // Every pose carries its input's age, and the run sums them up.
+  for (const double l : sink->latencies) {
+    CHECK(l >= 0.0);
+    CHECK(l < 1.0);
+  }
+  CHECK(report.latency.count == 6);
+  CHECK(report.paced);
+  CHECK(report.latency.max_s >= report.latency.p50_s);
   REQUIRE(src->handed.size() == 6);
   // Each followed a 250 ms silence; its pose was written within a few ms, not at the next
   // 100 ms poll. (At most one may be late on a loaded machine.)
