@@ -17,6 +17,7 @@
 #include "plugins/output/status_line.hpp"
 #include "plugins/output/mqtt_pose_sink.hpp"
 #include "plugins/output/udp_pose_sink.hpp"
+#include "plugins/web/live_view_sink.hpp"
 #include "core/pipeline/counting_stage.hpp"
 #include <unistd.h>
 #include <cstdio>
@@ -134,6 +135,12 @@ void add_run_options(CLI::App* sub, RunConfig& cfg) {
   sub->add_option("--mqtt-user", cfg.mqtt_user, "MQTT user name")->type_name("NAME");
   sub->add_option("--mqtt-password", cfg.mqtt_password,
                   "MQTT password (default: the environment variable LUXLOC_MQTT_PASSWORD, which ps does not show)")
+      ->type_name("TEXT");
+  sub->add_option("--web", cfg.web,
+                  "serve a read-only live view (map, trajectory, pose, rates) to browsers on [HOST:]PORT; "
+                  "127.0.0.1 unless HOST is given (0.0.0.0: every interface)")
+      ->type_name("[HOST:]PORT");
+  sub->add_option("--web-token", cfg.web_token, "the live view requires ?token=TEXT in its URL (for --web on a network)")
       ->type_name("TEXT");
   sub->add_option("--output-rate", cfg.fusion.output_rate_hz, "pose output rate, Hz (0 = every IMU sample)")
       ->check(CLI::Range(0.0, 10000.0))
@@ -355,7 +362,7 @@ RunOutcome run_session(const RunConfig& cfg, std::ostream& log) {
 
   // Sinks.
   std::vector<PoseSinkPtr> sinks;
-  const std::string out = c.out.empty() && c.udp.empty() && c.mqtt.empty() ? "-" : c.out;
+  const std::string out = c.out.empty() && c.udp.empty() && c.mqtt.empty() && c.web.empty() ? "-" : c.out;
   if (!out.empty()) sinks.push_back(make_pose_file_sink(out, parse_pose_format(c.format)));
   for (const auto& u : c.udp) sinks.push_back(std::make_unique<UdpPoseSink>(u));
   auto counters = std::make_shared<SampleCounters>(session.sources.size());
@@ -376,6 +383,16 @@ RunOutcome run_session(const RunConfig& cfg, std::ostream& log) {
     for (const auto& m : c.mqtt) sinks.push_back(std::make_unique<MqttPoseSink>(m, mo, monitor));
   } else if (!c.device_id.empty()) {
     check_device_id(c.device_id);
+  }
+  if (!c.web.empty()) {
+    LiveViewOptions wo;
+    wo.token = c.web_token;
+    wo.device_id = c.device_id.empty() ? default_device_id() : c.device_id;
+    auto view = std::make_unique<LiveViewSink>(c.web, wo, monitor, session.map);
+    if (!c.quiet) log << "luxloc: live view on " << view->url() << "\n";
+    sinks.push_back(std::move(view));
+  } else if (!c.web_token.empty()) {
+    throw InputError("--web-token", 0, "", "a token without --web");
   }
   // The live status line: on a terminal (or --status on), never into a pipe or a log file.
   if (c.status == "on" || (c.status == "auto" && !c.quiet && isatty(fileno(stderr)) && out != "-")) {

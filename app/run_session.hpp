@@ -33,6 +33,8 @@ struct RunConfig {
   std::vector<std::string> mqtt;     // HOST:PORT[/TOPIC], repeatable
   std::string device_id;             // --device-id (MQTT topics, "device" field); empty: host name
   std::string mqtt_tls_ca, mqtt_user, mqtt_password;
+  std::string web;        // --web [HOST:]PORT: the live view in a browser
+  std::string web_token;  // --web-token T: required as ?token=T
   std::string format = "csv";        // csv | tum
   bool realtime = false;
   int threads = 0;                   // 0 = all cores (TBB default)
