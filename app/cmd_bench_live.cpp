@@ -12,6 +12,7 @@
 #include <ctime>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "app/commands.hpp"
 #include "app/run_session.hpp"
@@ -29,6 +30,8 @@ struct BenchLiveArgs {
   double fps = 30.0, imu_rate_hz = 200.0;
   std::size_t particles = 0;  // 0: the run's default
   int threads = 0;
+  std::vector<std::string> mqtt;  // also publish (cost with a broker, latency with none)
+  std::string web;                // also serve the live view (cost with a browser watching)
 };
 
 double cpu_s(const rusage& u) {
@@ -53,7 +56,12 @@ int run_bench_live(const BenchLiveArgs& a) {
   cfg.status = "off";
   cfg.threads = a.threads;
   if (a.particles) cfg.fusion.pf.particles = a.particles;
-  std::printf("luxloc bench live: --source %s, in real time, %.0f s\n", spec.str().c_str(), a.duration_s);
+  cfg.mqtt = a.mqtt;
+  cfg.web = a.web;
+  std::string outputs;
+  for (const auto& m : a.mqtt) outputs += " --mqtt " + m;
+  if (!a.web.empty()) outputs += " --web " + a.web;
+  std::printf("luxloc bench live: --source %s%s, in real time, %.0f s\n", spec.str().c_str(), outputs.c_str(), a.duration_s);
   std::fflush(stdout);
 
   rusage u0{}, u1{};
@@ -110,6 +118,8 @@ void add_bench_live(CLI::App& bench, Action& action) {
   live->add_option("--threads", args->threads, "worker threads for the filter (0 = all cores)")
       ->check(CLI::Range(0, 1024))
       ->capture_default_str();
+  live->add_option("--mqtt", args->mqtt, "also publish to this MQTT broker (repeatable)")->type_name("HOST:PORT[/TOPIC]");
+  live->add_option("--web", args->web, "also serve the live view here")->type_name("[HOST:]PORT");
   live->callback([&action, args] { action = [args] { return run_bench_live(*args); }; });
 }
 
