@@ -384,12 +384,14 @@ RunOutcome run_session(const RunConfig& cfg, std::ostream& log) {
   } else if (!c.device_id.empty()) {
     check_device_id(c.device_id);
   }
+  LiveViewSink* live_view = nullptr;  // owned by the pipeline's sinks
   if (!c.web.empty()) {
     LiveViewOptions wo;
     wo.token = c.web_token;
     wo.device_id = c.device_id.empty() ? default_device_id() : c.device_id;
     auto view = std::make_unique<LiveViewSink>(c.web, wo, monitor, session.map);
     if (!c.quiet) log << "luxloc: live view on " << view->url() << "\n";
+    live_view = view.get();
     sinks.push_back(std::move(view));
   } else if (!c.web_token.empty()) {
     throw InputError("--web-token", 0, "", "a token without --web");
@@ -404,6 +406,10 @@ RunOutcome run_session(const RunConfig& cfg, std::ostream& log) {
   }
 
   FusionEngine engine(c.fusion, session.map, session.camera, session.config, c.uwb, c.vo);
+  if (live_view)
+    engine.set_frame_observer([live_view](const FrameSample& f, const std::vector<LedObservation>& leds) {
+      live_view->offer_frame(f, leds);
+    });
   std::unique_ptr<SessionRecorder> recorder;
   if (!c.record.empty())
     recorder = std::make_unique<SessionRecorder>(c.record, session.map, session.camera, session.config);

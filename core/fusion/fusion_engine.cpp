@@ -161,6 +161,7 @@ void FusionEngine::on_frame(const FrameSample& s, std::vector<PoseEstimate>&) {
   ++stats_.frames;
   if (!vlc_) return;
   DecodedFrame f = vlc_->decode(s);
+  if (frame_observer_) frame_observer_(s, accepted_leds(f));
   stats_.blobs_rejected += static_cast<std::uint64_t>(f.rejected);
   last_leds_ = f.leds;
   if (f.leds == 0) return;

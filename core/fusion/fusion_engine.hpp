@@ -4,6 +4,7 @@
 // held until the IMU timeline passes their observation time, so each correction is applied
 // at the moment its rows were exposed, not when the frame started.
 #include <deque>
+#include <functional>
 #include <memory>
 #include <optional>
 
@@ -30,6 +31,11 @@ class FusionEngine final : public FusionStage {
   void process(const Sample& sample, std::vector<PoseEstimate>& out) override;
   void finish(std::vector<PoseEstimate>& out) override;
 
+  // Called on the fusion thread with every decoded camera frame and its identified LEDs
+  // (the live view's camera picture); it must be quick (the live view copies at most a
+  // few frames a second and returns).
+  using FrameObserver = std::function<void(const FrameSample&, const std::vector<LedObservation>&)>;
+  void set_frame_observer(FrameObserver observer) { frame_observer_ = std::move(observer); }
   const FusionStats& stats() const { return stats_; }
   const UwbStats& uwb_stats() const { return uwb_->stats(); }
   const VoStats& vo_stats() const { return vo_stats_; }
@@ -80,6 +86,7 @@ class FusionEngine final : public FusionStage {
   VoStats vo_stats_;
   double vo_heading_ = 0.0;
   bool vo_heading_valid_ = false;
+  FrameObserver frame_observer_;
 };
 
 }  // namespace luxloc

@@ -34,6 +34,8 @@ td:last-child{text-align:right;font-variant-numeric:tabular-nums}
 <h1>sources</h1>
 <table><thead><tr><td class="dim">source</td><td class="dim">rate /s</td><td class="dim">drops</td></tr></thead>
 <tbody id="sources"></tbody></table>
+<h1 id="camera-title" hidden>camera</h1>
+<img id="camera" alt="camera frame, identified LEDs circled" hidden style="width:100%;image-rendering:auto">
 <p class="dim">Read-only view. The ellipse holds the position with 95 % probability (2.45 sigma).</p>
 </div>
 <script>
@@ -115,6 +117,12 @@ es.addEventListener("status", e => {
                                               (d.source_drops[n] || 0) + "</td></tr>");
   $("sources").innerHTML = rows.join("");
   Object.keys(d.rates_hz).forEach((n, i) => { $("sources").rows[i].cells[0].textContent = n; });  // names as text
+});
+es.addEventListener("frame", e => {
+  const d = JSON.parse(e.data), img = $("camera");
+  img.hidden = false; $("camera-title").hidden = false;
+  img.src = "frame.jpg?n=" + d.n + (token ? "&token=" + encodeURIComponent(token) : "");
+  img.dataset.frames = String(d.n);
 });
 window.addEventListener("resize", draw);
 </script></body></html>

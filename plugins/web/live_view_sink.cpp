@@ -13,6 +13,7 @@
 #include "plugins/output/json_text.hpp"
 #include "plugins/output/pose_text.hpp"
 #include "plugins/output/udp_pose_sink.hpp"
+#include "plugins/web/camera_snapshot.hpp"
 #include "plugins/web/event_ring.hpp"
 #include "plugins/web/live_page.hpp"
 
@@ -46,7 +47,11 @@ WebEndpoint parse_web_endpoint(const std::string& spec) {
 class LiveViewSink::Server {
  public:
   Server(const WebEndpoint& at, LiveViewOptions options, RunMonitor monitor, const std::optional<LedMap>& map)
-      : options_(std::move(options)), monitor_(std::move(monitor)), ring_(options_.ring_capacity), host_(at.host) {
+      : options_(std::move(options)),
+        monitor_(std::move(monitor)),
+        ring_(options_.ring_capacity),
+        camera_(options_.frame_interval),
+        host_(at.host) {
     JsonObject init;
     std::string leds = "[";
     if (map)
@@ -83,6 +88,15 @@ class LiveViewSink::Server {
       res.set_content(page.data(), page.size(), "text/html; charset=utf-8");
     });
     http_.Get("/events", [this](const httplib::Request&, httplib::Response& res) { open_stream(res); });
+    http_.Get("/frame.jpg", [this](const httplib::Request&, httplib::Response& res) {
+      const std::string jpeg = camera_.jpeg();
+      if (jpeg.empty()) {
+        res.status = 404;
+        return;
+      }
+      res.set_header("Cache-Control", "no-store");
+      res.set_content(jpeg, "image/jpeg");
+    });
     if (!http_.bind_to_port(at.host, at.port))
       throw InputError("--web", 0, "", "cannot listen on " + at.host + ":" + std::to_string(at.port) +
                                            " (in use, or not an address of this machine)");
@@ -104,6 +118,12 @@ class LiveViewSink::Server {
   const std::string& token() const { return options_.token; }
   std::uint64_t served() const { return served_.load(); }
   std::uint64_t dropped() const { return dropped_.load(); }
+
+  void on_frame(const FrameSample& frame, const std::vector<LedObservation>& leds) {
+    if (camera_.offer(frame, leds))
+      ring_.push(sse("frame", "{\"n\":" + std::to_string(camera_.number()) + ",\"w\":" + std::to_string(frame.gray.cols) +
+                                  ",\"h\":" + std::to_string(frame.gray.rows) + "}"));
+  }
 
   // The output thread: a pose event now and then, a status event once a second.
   void on_pose(const PoseEstimate& p) {
@@ -210,6 +230,7 @@ class LiveViewSink::Server {
   LiveViewOptions options_;
   RunMonitor monitor_;
   EventRing ring_;
+  CameraSnapshot camera_;
   std::string host_;
   std::string leds_json_;
   httplib::Server http_;
@@ -235,6 +256,9 @@ LiveViewSink::LiveViewSink(const std::string& spec, LiveViewOptions options, Run
 LiveViewSink::~LiveViewSink() = default;
 
 void LiveViewSink::write(const PoseEstimate& pose) { server_->on_pose(pose); }
+void LiveViewSink::offer_frame(const FrameSample& frame, const std::vector<LedObservation>& leds) {
+  server_->on_frame(frame, leds);
+}
 int LiveViewSink::port() const { return server_->port(); }
 std::string LiveViewSink::url() const {
   const std::string h = server_->host().find(':') != std::string::npos ? "[" + server_->host() + "]" : server_->host();

@@ -3,8 +3,10 @@
 // binary (cpp-httplib). Two paths and nothing else (no file system, no control):
 //   /        the page (plugins/web/live_page.cpp, compiled in)
 //   /events  Server-Sent Events: "init" (device, LED map, the trajectory so far), then
-//            "pose" (at most every pose_interval) and "status" (once a second: rates and
-//            drops per source, latency p50/p99, browsers watching)
+//            "pose" (at most every pose_interval), "status" (once a second: rates and
+//            drops per source, latency p50/p99, browsers watching) and "frame" (a new
+//            camera picture, at most every frame_interval)
+//   /frame.jpg  the last camera frame kept, the identified LEDs circled (CameraSnapshot)
 // Any other path is 404; with a token (--web-token) every request without ?token=T is 403.
 // Binds 127.0.0.1 unless a host is given ("0.0.0.0:8080" for the network).
 //
@@ -16,9 +18,12 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
+#include "core/common/samples.hpp"
 #include "core/pipeline/pose_sink.hpp"
 #include "core/pipeline/run_monitor.hpp"
+#include "core/vlc/led_observation.hpp"
 #include "core/vlc/led_map.hpp"
 
 namespace luxloc {
@@ -37,6 +42,7 @@ struct LiveViewOptions {
   std::size_t ring_capacity = 512;
   std::chrono::milliseconds pose_interval{50};  // at most 20 poses a second to the browsers
   std::chrono::milliseconds status_interval{1000};
+  std::chrono::milliseconds frame_interval{333};  // about 3 camera pictures a second
   std::chrono::seconds write_timeout{2};
   std::size_t max_clients = 6;  // event streams at once (cpp-httplib serves from 8 threads)
   std::size_t history = 5000;   // trajectory points a new browser gets
@@ -53,6 +59,8 @@ class LiveViewSink final : public PoseSink {
 
   std::string name() const override { return "web:" + spec_; }
   void write(const PoseEstimate& pose) override;
+  // The fusion thread (FusionEngine::set_frame_observer): keeps a copy now and then.
+  void offer_frame(const FrameSample& frame, const std::vector<LedObservation>& leds);
 
   int port() const;
   std::string url() const;  // http://HOST:PORT/ (with ?token=)

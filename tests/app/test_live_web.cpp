@@ -72,6 +72,36 @@ TEST_CASE("Headless chromium watches a live sim run: map, trajectory and pose dr
   REQUIRE(std::regex_search(dom, draws, std::regex("data-draws=\"([0-9]+)\"")));
   CHECK(std::stoi(draws[1]) >= 20);  // the canvas was redrawn with them
   CHECK(dom.find("<td>sim:dense</td>") != std::string::npos);  // per-source rates table
+  // The camera picture: shown, and renewed a few times a second.
+  std::smatch frames;
+  REQUIRE(std::regex_search(dom, frames, std::regex("<img id=\"camera\"[^>]*data-frames=\"([0-9]+)\"")));
+  CHECK(std::stoi(frames[1]) >= 5);
+  CHECK(std::regex_search(dom, std::regex("<img id=\"camera\"[^>]*src=\"frame.jpg\\?n=[0-9]+&amp;token=t0k\"")));
+}
+
+TEST_CASE("Headless chromium watches a real-time playback of the demo session", "[app][web]") {
+  const std::string browser = chromium_binary();
+  const auto dir = scratch_dir("web-playback");
+  const int port = free_tcp_port();
+  const std::string demo = std::string(LUXLOC_SOURCE_DIR) + "/data/demo-walk";
+  // 6 s of the 30 s session, then SIGINT: the stream ends and the browser's DOM is dumped.
+  std::thread run([&] {
+    run_command("sh -c \"'" + std::string(LUXLOC_BIN) + "' run --playback '" + demo + "' --realtime -q --out /dev/null --web " +
+                std::to_string(port) + " & pid=\\$!; sleep 6; kill -INT \\$pid; wait \\$pid\" >/dev/null 2>&1");
+  });
+  for (int i = 0; i < 500 && !port_accepts(port); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  const auto r = run_command("timeout 60 '" + browser + "' --headless --disable-gpu --no-sandbox --no-first-run " +
+                             "--user-data-dir='" + (dir / "chromium").string() + "' --virtual-time-budget=20000 " +
+                             "--dump-dom 'http://127.0.0.1:" + std::to_string(port) + "/' 2>/dev/null");
+  run.join();
+  const std::string& dom = r.output;
+  INFO(dom.substr(0, 4000));
+  REQUIRE(r.exit_code == 0);
+  CHECK(number_of(dom, "map-leds") >= 1);      // the demo room's lights
+  CHECK(number_of(dom, "pose-count") >= 20);
+  CHECK(number_of(dom, "t-span") > 2.0);
+  CHECK(number_of(dom, "trail-points") >= 20);
+  CHECK(dom.find("<td>playback:imu</td>") != std::string::npos);
 }
 
 TEST_CASE("Bad --web options stop with exit 2 and a message", "[app][web]") {

@@ -80,6 +80,15 @@ TEST_CASE("The live view serves its page and event stream and nothing else", "[p
     CHECK(r->body.find("root:") == std::string::npos);
   }
   CHECK(c.Post("/", "x", "text/plain")->status == 404);  // read-only: no other method
+  CHECK(c.Get("/frame.jpg")->status == 404);             // no camera picture yet
+  FrameSample frame;
+  frame.gray = cv::Mat(120, 160, CV_8UC1, cv::Scalar(40));
+  view.offer_frame(frame, {});
+  const auto jpeg = c.Get("/frame.jpg");
+  REQUIRE(jpeg);
+  CHECK(jpeg->status == 200);
+  CHECK(jpeg->get_header_value("Content-Type") == "image/jpeg");
+  CHECK(jpeg->body.rfind("\xff\xd8", 0) == 0);  // a JPEG's start-of-image marker
   // The stream: init (device, map), then the poses written meanwhile.
   std::thread writer([&] {
     for (int k = 0; k < 50; ++k) {
