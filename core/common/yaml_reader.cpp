@@ -1,7 +1,9 @@
 #include "core/common/yaml_reader.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <opencv2/core.hpp>
 
 #include "core/common/input_error.hpp"
@@ -37,18 +39,72 @@ bool blank_text(const std::string& path) {
   return blank;
 }
 
+// OpenCV 4.6's YAML parser never returns on some malformed input, found by the fuzz target
+// fuzz_yaml: a document marker run into text ("----Y0" then "----t"), and a byte >= 0x80 in
+// a key ("half_po\xfder_angle_deg") both loop forever inside FileStorage::open; 0xff bytes
+// made it throw std::length_error. So the text is checked first: a line starting with "---"
+// must be a document marker ("---" alone or followed by a blank or a comment), and outside
+// comments only printable ASCII, tabs and line ends may appear (our files hold numbers,
+// names and ids; UTF-8 is fine in comments). Returns the problem and its 1-based line.
+struct TextProblem {
+  int line = 0;
+  std::string what;
+};
+
+std::optional<TextProblem> text_problem(const std::string& path) {
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) return std::nullopt;
+  std::optional<TextProblem> problem;
+  int line = 1, col = 0;
+  bool comment = false, after_blank = true, marker = false;
+  // A UTF-8 byte-order mark (what some Windows editors write first) is not text.
+  unsigned char bom[3] = {};
+  if (std::fread(bom, 1, 3, f) != 3 || bom[0] != 0xEF || bom[1] != 0xBB || bom[2] != 0xBF) std::rewind(f);
+  for (int c; !problem && (c = std::fgetc(f)) != EOF;) {
+    if (c == '\n') {
+      ++line;
+      col = 0;
+      comment = false;
+      after_blank = true;
+      continue;
+    }
+    ++col;
+    if (col <= 3) marker = (col == 1 ? c == '-' : marker && c == '-');
+    if (col == 4 && marker && c != ' ' && c != '\t' && c != '\r' && c != '#')
+      problem = TextProblem{line, "a line starting with '---' that is not a document marker ('---' alone)"};
+    if (c == '#' && after_blank) comment = true;
+    after_blank = c == ' ' || c == '\t';
+    if (comment) continue;
+    if (c >= 0x80 || (c < 0x20 && c != '\t' && c != '\r')) {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "0x%02x", c);
+      problem = TextProblem{line, std::string("byte ") + hex + " in column " + std::to_string(col) +
+                                      " (outside comments only printable ASCII is read)"};
+    }
+  }
+  std::fclose(f);
+  return problem;
+}
+
 }  // namespace
 
 YamlFile::YamlFile(std::string path, const std::string& what) : path_(std::move(path)) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path_, ec)) throw InputError(path_, 0, "", "cannot open " + what);
   if (blank_text(path_)) return;
+  if (const auto bad = text_problem(path_)) throw InputError(path_, bad->line, "", bad->what + ": not a valid " + what);
   try {
     if (!fs_.open(path_, cv::FileStorage::READ | cv::FileStorage::FORMAT_YAML))
       throw InputError(path_, 0, "", "cannot open " + what);
     root_ = fs_.root();
+  } catch (const InputError&) {
+    throw;
   } catch (const cv::Exception& e) {
     throw InputError(path_, 0, "", "not a valid OpenCV YAML " + what + ": " + e.err);
+  } catch (const std::exception& e) {
+    // OpenCV's parser lets some of its own failures out as other exceptions (found by the
+    // fuzz target fuzz_yaml: a std::length_error from a malformed key).
+    throw InputError(path_, 0, "", "not a valid OpenCV YAML " + what + " (the parser failed: " + e.what() + ")");
   }
   if (yaml_absent(root_)) return;
   if (!root_.isMap()) fail("", "", "the top level is " + type_name(root_) + ", expected a mapping of keys");

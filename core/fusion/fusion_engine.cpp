@@ -12,6 +12,9 @@ template <class... Ts>
 struct Overloaded : Ts... {
   using Ts::operator()...;
 };
+// Explicit guide: clang 14 (the sanitizer builds) has no aggregate CTAD yet.
+template <class... Ts>
+Overloaded(Ts...) -> Overloaded<Ts...>;
 
 MotionSourceOptions effective_motion(const FusionOptions& o) {
   MotionSourceOptions m = o.motion;

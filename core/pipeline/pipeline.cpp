@@ -4,6 +4,7 @@
 #include <memory>
 #include <thread>
 
+#include "core/common/memory_trim.hpp"
 #include "core/pipeline/clock_rebase.hpp"
 #include "core/pipeline/doorbell.hpp"
 #include "core/pipeline/source_silence.hpp"
@@ -17,12 +18,19 @@ using Clock = std::chrono::steady_clock;
 struct QueuedSample {
   Sample sample;
   Clock::time_point arrival;
+  std::size_t bytes = 0;  // pixel memory it holds (frames), for the lane's byte budget
 };
+
+std::size_t payload_bytes(const SensorData& d) {
+  const auto* f = std::get_if<FrameSample>(&d);
+  return f ? f->gray.total() * f->gray.elemSize() : 0;
+}
 
 struct Lane {
   explicit Lane(std::size_t capacity) : queue(capacity) {}
   SpscQueue<QueuedSample> queue;
   std::atomic<bool> done{false};
+  std::atomic<std::size_t> bytes{0};  // pixel memory queued (PipelineOptions::source_queue_bytes)
   std::uint64_t fused = 0;  // touched by the fusion thread only
   DropCounts drops;         // the pipeline's own drops for this source
   std::string failure;      // written by the source thread before `done`
@@ -82,11 +90,25 @@ PipelineReport Pipeline::run(FusionStage& stage) {
           if (offset != 0) shift_time(d, offset);
           const auto arrival = Clock::now();
           if (rebase) rebase_clock(clock, d, arrival, lane);
-          QueuedSample item{Sample{sample_time(d), static_cast<int>(i), std::move(d)}, arrival};
+          const std::size_t bytes = payload_bytes(d);
+          QueuedSample item{Sample{sample_time(d), static_cast<int>(i), std::move(d)}, arrival, bytes};
           backoff.reset();
+          // Full: no slot, or the frames queued already hold the lane's byte budget (one
+          // frame always fits, whatever its size).
+          auto over_budget = [&] {
+            const std::size_t queued = lane.bytes.load(std::memory_order_acquire);
+            return bytes > 0 && queued > 0 && queued + bytes > options_.source_queue_bytes;
+          };
+          auto try_push = [&] {
+            if (over_budget()) return false;
+            lane.bytes.fetch_add(bytes, std::memory_order_acq_rel);  // before the consumer can pop it
+            if (lane.queue.try_push(std::move(item))) return true;
+            lane.bytes.fetch_sub(bytes, std::memory_order_acq_rel);
+            return false;
+          };
           for (;;) {
             const std::uint64_t ticket = space_bell.ticket();
-            if (lane.queue.try_push(std::move(item))) {
+            if (try_push()) {
               input_bell.ring();
               break;
             }
@@ -198,6 +220,7 @@ PipelineReport Pipeline::run(FusionStage& stage) {
   bool have_first = false;
   TimeNs first_t = 0;
   IdleWait backoff;
+  MemoryTrim trim;  // a backlog of frames must not stay in the RSS (core/common/memory_trim.hpp)
   while (!stop_.load(std::memory_order_relaxed)) {
     const std::uint64_t ticket = input_bell.ticket();
     int best = -1;
@@ -243,6 +266,7 @@ PipelineReport Pipeline::run(FusionStage& stage) {
     backoff.reset();
     Lane& lane = *lanes[static_cast<std::size_t>(best)];
     QueuedSample item = std::move(*lane.queue.try_pop());
+    if (item.bytes > 0) lane.bytes.fetch_sub(item.bytes, std::memory_order_release);
     space_bell.ring();
     if (item.sample.t < last_t) {
       lane.drops.add("late (older than the reorder window)",
@@ -265,6 +289,7 @@ PipelineReport Pipeline::run(FusionStage& stage) {
         newest_arrival_ns, std::chrono::duration_cast<std::chrono::nanoseconds>(item.arrival.time_since_epoch()).count());
     stage.process(item.sample, out);
     emit();
+    trim.tick();
     if (options_.probe && ++fused_total % PipelineOptions::kProbeEvery == 0) {
       PipelineProbe probe;
       probe.t = item.sample.t;

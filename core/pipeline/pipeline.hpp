@@ -34,6 +34,11 @@ struct PipelineProbe {
 
 struct PipelineOptions {
   std::size_t source_queue_capacity = 256;
+  // Camera frames queued per source at most, in pixel bytes: 16 MiB is ~0.6 s of 720p at
+  // 30 fps, 1.8 s of VGA. A backlog beyond it waits (playback) or is dropped as "queue full"
+  // (live: a frame that old is no use to a real-time pose), so a fusion that falls behind
+  // cannot pile up hundreds of frames (the soak's +13-19 % RSS, docs/RELIABILITY.md).
+  std::size_t source_queue_bytes = std::size_t{16} << 20;
   std::size_t pose_queue_capacity = 16384;
   // Live: how long (wall clock) the merger waits for a silent source before going on.
   std::chrono::milliseconds reorder_window{60};

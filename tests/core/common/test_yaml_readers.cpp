@@ -80,6 +80,30 @@ TEST_CASE("LED map reader: structural errors name the file, the key and the LED"
   expect_error("ledmap.yaml", "", load, "leds", "missing");
   expect_error("ledmap.yaml", std::string(kHead) + "leds: [\n", load, "", "YAML");
   expect_error("ledmap.yaml", "\x01\x02 binary {{{ ]]] : : :\n", load, "", "");
+  // Found by fuzz_yaml: a key with bytes 0xff 0xff 0xff 0xf8 makes OpenCV's parser throw a
+  // std::length_error (not a cv::Exception); it must still be exit 2 naming the file.
+  const std::string parser_breaker =
+      "%YAML:1.0\n"
+      "---\n"
+      "leds:\n"
+      "   - { id:1, freq_hz:1000., x:1., y:1., z:3., duty\xff\xff\xff\xf8:5.0000000000000000e-01,\n"
+      "       half_power_angle_deg:60., power:1.,\n"
+      "       diameter_m:2.0000000000000001e-01 }\n"
+      "   - { id:2, freq_hz:1300., x:3., :y1., z:3., duty:5.000000000ledmap\n"
+      "%YAML0000000e-01,\n"
+      "   \xba\x31.0\n"
+      "\n"
+      "ld--s:    half_power_a ng duty:5.00000003\n"
+      "000000000e-01,\n"
+      "       half_pow";
+  expect_error("ledmap.yaml", parser_breaker, load, "", "byte 0xff in column");
+  // Found by fuzz_yaml: OpenCV's parser loops forever on these malformed document markers;
+  // they are refused (with the line) before it sees them.
+  expect_error("ledmap.yaml", "%YAML:1.0\n----Y0\n----t\n", load, "", "line starting with '---'");
+  expect_error("ledmap.yaml", "%YAML:1.0\n-------------------------Y0\n----ts: !!opencv-matrix]\nt\n   r,ows_body_: c", load, "",
+               "not a document marker");
+  expect_error("ledmap.yaml", std::string(kHead) + "leds:\n  - { id: 1, freq_hz: 1000., x: 1., y: 1., z: 3., half_po\xfd" "er: 60. }\n", load,
+               "", "byte 0xfd in column");
 }
 
 TEST_CASE("camera reader: structural errors name the file and the key", "[yaml]") {

@@ -130,3 +130,69 @@ TEST_CASE("Pipeline stop() ends the run and still delivers every computed pose",
   REQUIRE(rec.seen.size() < a.size());
   REQUIRE(written.size() == rec.seen.size());
 }
+
+namespace {
+
+// Emits `count` 1 MiB frames as fast as the queue takes them and counts what it produced.
+class BigFrameSource : public Source {
+ public:
+  BigFrameSource(int count, std::atomic<int>& produced) : count_(count), produced_(produced) {}
+  std::string name() const override { return "frames"; }
+  bool next(SensorData& out) override {
+    if (i_ >= count_) return false;
+    FrameSample f;
+    f.t = TimeNs{i_++} * 33'000'000;
+    f.gray = cv::Mat(1024, 1024, CV_8UC1, cv::Scalar(0));
+    out = std::move(f);
+    produced_.fetch_add(1);
+    return true;
+  }
+
+ private:
+  int count_, i_ = 0;
+  std::atomic<int>& produced_;
+};
+
+// A slow fusion stage that notes how far ahead of it the source got.
+struct SlowStage : FusionStage {
+  std::atomic<int>* produced = nullptr;
+  int fused = 0, most_ahead = 0;
+  void process(const Sample&, std::vector<PoseEstimate>&) override {
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    ++fused;
+    most_ahead = std::max(most_ahead, produced->load() - fused);
+  }
+};
+
+}  // namespace
+
+TEST_CASE("Pipeline bounds the frame memory queued per source (source_queue_bytes)", "[pipeline]") {
+  // 1 MiB frames against a 4 MiB budget: the source can be at most 4 queued + 1 being
+  // pushed ahead of the fusion, however many slots the queue has (256).
+  std::atomic<int> produced{0};
+  std::vector<SourcePtr> sources;
+  sources.push_back(std::make_unique<BigFrameSource>(60, produced));
+  PipelineOptions opt;
+  opt.source_queue_bytes = std::size_t{4} << 20;
+  Pipeline p(std::move(sources), {}, opt);
+  SlowStage stage;
+  stage.produced = &produced;
+  const PipelineReport r = p.run(stage);
+  CHECK(stage.fused == 60);  // playback: waits, loses nothing
+  CHECK(r.sources[0].samples == 60);
+  CHECK(stage.most_ahead <= 5);
+  CHECK(stage.most_ahead >= 3);  // the budget, not something smaller, is what held it
+
+  SECTION("live: beyond the budget, frames are dropped as queue full") {
+    std::atomic<int> live_produced{0};
+    std::vector<SourcePtr> live;
+    live.push_back(std::make_unique<BigFrameSource>(60, live_produced));
+    opt.live = true;
+    Pipeline lp(std::move(live), {}, opt);
+    SlowStage s2;
+    s2.produced = &live_produced;
+    const PipelineReport lr = lp.run(s2);
+    CHECK(lr.sources[0].drops.count("queue full") == 1);
+    CHECK(lr.sources[0].drops.at("queue full").count + static_cast<std::uint64_t>(s2.fused) == 60);
+  }
+}
