@@ -410,6 +410,9 @@ RunOutcome run_session(const RunConfig& cfg, std::ostream& log) {
     engine.set_frame_observer([live_view](const FrameSample& f, const std::vector<LedObservation>& leds) {
       live_view->offer_frame(f, leds);
     });
+  if (live_view)
+    engine.set_cloud_observer([live_view](const std::vector<Eigen::Vector2d>& cloud) { live_view->offer_cloud(cloud); },
+                              std::chrono::milliseconds(333), 300);
   std::unique_ptr<SessionRecorder> recorder;
   if (!c.record.empty())
     recorder = std::make_unique<SessionRecorder>(c.record, session.map, session.camera, session.config);

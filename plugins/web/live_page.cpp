@@ -30,6 +30,7 @@ td:last-child{text-align:right;font-variant-numeric:tabular-nums}
 <tr><td>time covered</td><td><span id="t-span">0</span> s</td></tr>
 <tr><td>trajectory points</td><td id="trail-points">0</td></tr>
 <tr><td>LEDs on the map</td><td id="map-leds">0</td></tr>
+<tr><td>particles drawn</td><td id="cloud-points">0</td></tr>
 </table>
 <h1>sources</h1>
 <table><thead><tr><td class="dim">source</td><td class="dim">rate /s</td><td class="dim">drops</td></tr></thead>
@@ -42,7 +43,7 @@ td:last-child{text-align:right;font-variant-numeric:tabular-nums}
 "use strict";
 const $ = id => document.getElementById(id);
 const token = new URLSearchParams(location.search).get("token");
-let leds = [], trail = [], pose = null, count = 0, firstT = null;
+let leds = [], trail = [], pose = null, count = 0, firstT = null, cloud = [];
 const canvas = $("map"), ctx = canvas.getContext("2d");
 function bounds() {
   let x0 = Infinity, y0 = Infinity, x1 = -Infinity, y1 = -Infinity;
@@ -68,6 +69,8 @@ function draw() {
     ctx.fillStyle = "#fc3"; ctx.beginPath(); ctx.arc(X(l.x), Y(l.y), 6, 0, 2 * Math.PI); ctx.fill();
     ctx.fillStyle = "#aaa"; ctx.fillText(l.id + " (" + Math.round(l.f) + " Hz)", X(l.x) + 8, Y(l.y) - 6);
   }
+  ctx.fillStyle = "rgba(255,120,120,0.45)";  // particles, subsampled
+  for (const q of cloud) ctx.fillRect(X(q[0]) - 1, Y(q[1]) - 1, 2, 2);
   if (trail.length > 1) {
     ctx.strokeStyle = "#39f"; ctx.lineWidth = 2; ctx.beginPath();
     trail.forEach((p, i) => i ? ctx.lineTo(X(p[1]), Y(p[2])) : ctx.moveTo(X(p[1]), Y(p[2])));
@@ -117,6 +120,10 @@ es.addEventListener("status", e => {
                                               (d.source_drops[n] || 0) + "</td></tr>");
   $("sources").innerHTML = rows.join("");
   Object.keys(d.rates_hz).forEach((n, i) => { $("sources").rows[i].cells[0].textContent = n; });  // names as text
+});
+es.addEventListener("cloud", e => {
+  cloud = JSON.parse(e.data).p;
+  $("cloud-points").textContent = cloud.length;
 });
 es.addEventListener("frame", e => {
   const d = JSON.parse(e.data), img = $("camera");

@@ -3,6 +3,7 @@
 #include <httplib.h>
 
 #include <atomic>
+#include <cmath>
 #include <deque>
 #include <mutex>
 #include <thread>
@@ -123,6 +124,17 @@ class LiveViewSink::Server {
     if (camera_.offer(frame, leds))
       ring_.push(sse("frame", "{\"n\":" + std::to_string(camera_.number()) + ",\"w\":" + std::to_string(frame.gray.cols) +
                                   ",\"h\":" + std::to_string(frame.gray.rows) + "}"));
+  }
+
+  void on_cloud(const std::vector<Eigen::Vector2d>& particles) {
+    std::string pts = "{\"p\":[";
+    pts.reserve(16 * particles.size() + 16);
+    for (std::size_t i = 0; i < particles.size(); ++i) {
+      if (!std::isfinite(particles[i].x()) || !std::isfinite(particles[i].y())) continue;
+      if (pts.back() == ']') pts += ',';
+      pts += "[" + format_fixed(particles[i].x(), 2) + "," + format_fixed(particles[i].y(), 2) + "]";
+    }
+    ring_.push(sse("cloud", pts + "]}"));
   }
 
   // The output thread: a pose event now and then, a status event once a second.
@@ -256,6 +268,7 @@ LiveViewSink::LiveViewSink(const std::string& spec, LiveViewOptions options, Run
 LiveViewSink::~LiveViewSink() = default;
 
 void LiveViewSink::write(const PoseEstimate& pose) { server_->on_pose(pose); }
+void LiveViewSink::offer_cloud(const std::vector<Eigen::Vector2d>& particles) { server_->on_cloud(particles); }
 void LiveViewSink::offer_frame(const FrameSample& frame, const std::vector<LedObservation>& leds) {
   server_->on_frame(frame, leds);
 }

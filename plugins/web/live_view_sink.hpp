@@ -5,7 +5,8 @@
 //   /events  Server-Sent Events: "init" (device, LED map, the trajectory so far), then
 //            "pose" (at most every pose_interval), "status" (once a second: rates and
 //            drops per source, latency p50/p99, browsers watching) and "frame" (a new
-//            camera picture, at most every frame_interval)
+//            camera picture, at most every frame_interval) and "cloud" (a subsample of
+//            the particles, as often)
 //   /frame.jpg  the last camera frame kept, the identified LEDs circled (CameraSnapshot)
 // Any other path is 404; with a token (--web-token) every request without ?token=T is 403.
 // Binds 127.0.0.1 unless a host is given ("0.0.0.0:8080" for the network).
@@ -14,6 +15,7 @@
 // event into a bounded ring (EventRing) that the HTTP threads read. A browser that stalls
 // is dropped when a write to it times out or when it falls a ring behind; at most
 // max_clients event streams at once (more get 503).
+#include <Eigen/Core>
 #include <chrono>
 #include <memory>
 #include <optional>
@@ -61,6 +63,8 @@ class LiveViewSink final : public PoseSink {
   void write(const PoseEstimate& pose) override;
   // The fusion thread (FusionEngine::set_frame_observer): keeps a copy now and then.
   void offer_frame(const FrameSample& frame, const std::vector<LedObservation>& leds);
+  // The fusion thread (FusionEngine::set_cloud_observer): a "cloud" event for the browsers.
+  void offer_cloud(const std::vector<Eigen::Vector2d>& particles);
 
   int port() const;
   std::string url() const;  // http://HOST:PORT/ (with ?token=)

@@ -64,6 +64,7 @@ TEST_CASE("Headless chromium watches a live sim run: map, trajectory and pose dr
   CHECK(number_of(dom, "t-span") > 2.0);            // ...over seconds of data: updating
   CHECK(number_of(dom, "trail-points") >= 20);      // the trajectory grew
   CHECK(number_of(dom, "leds-in-view") >= 1);
+  CHECK(number_of(dom, "cloud-points") >= 100);   // the particle cloud, subsampled
   CHECK(element_text(dom, "mode") != "-");
   const double x = number_of(dom, "pose-x");
   CHECK(x > 0.0);

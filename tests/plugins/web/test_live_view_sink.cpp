@@ -92,6 +92,7 @@ TEST_CASE("The live view serves its page and event stream and nothing else", "[p
   // The stream: init (device, map), then the poses written meanwhile.
   std::thread writer([&] {
     for (int k = 0; k < 50; ++k) {
+      if (k == 25) view.offer_cloud({{1.0, 2.0}, {1.5, 2.25}});
       view.write(pose_at(k));
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
@@ -102,6 +103,7 @@ TEST_CASE("The live view serves its page and event stream and nothing else", "[p
   INFO(got);
   CHECK(got.find("event: init\ndata: {\"device\":\"unit\",\"leds\":[{\"id\":7,\"f\":2500.0,\"x\":1.200") != std::string::npos);
   CHECK(got.find("event: pose\ndata: {\"t\":") != std::string::npos);
+  CHECK(got.find("event: cloud\ndata: {\"p\":[[1.00,2.00],[1.50,2.25]]}") != std::string::npos);
   CHECK(view.clients_served() == 1);
 }
 
