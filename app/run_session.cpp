@@ -502,6 +502,12 @@ void print_report(const RunOutcome& r, std::ostream& log) {
   if (p.paced && p.latency.count)
     log << "  latency (newest input to the outputs): p50 " << std::setprecision(2) << 1e3 * p.latency.p50_s << " ms, p99 "
         << 1e3 * p.latency.p99_s << " ms, max " << 1e3 * p.latency.max_s << " ms over " << p.latency.count << " poses\n";
+  for (const auto& sink : p.sinks)
+    for (const auto& [reason, e] : sink.drops) {
+      log << "  output " << sink.name << ": " << e.count << " poses not delivered (" << reason << ")";
+      if (!e.first_message.empty()) log << ", first: " << e.first_message;
+      log << "\n";
+    }
   if (p.poses_dropped) log << "  outputs: " << p.poses_dropped << " poses dropped (output too slow)\n";
   log.unsetf(std::ios::floatfield);
 }

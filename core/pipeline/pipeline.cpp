@@ -332,6 +332,7 @@ PipelineReport Pipeline::run(FusionStage& stage) {
   report.wall_s = std::chrono::duration<double>(Clock::now() - wall0).count();
   report.output_failure = sink_failure;
   report.latency = latency.summary();
+  for (const auto& sink : sinks_) report.sinks.push_back({sink->name(), sink->drops().snapshot()});
   report.paced = options_.live || options_.realtime;
   return report;
 }

@@ -83,10 +83,13 @@ TEST_CASE("A run with --mqtt and no broker goes on and writes every pose to --ou
   const auto out = (dir / "poses.csv").string();
   const auto ref = (dir / "ref.csv").string();
   const int port = free_tcp_port();
-  const auto r = run_luxloc("run --playback '" + demo_dir() + "' -q --out '" + out + "' --mqtt 127.0.0.1:" +
+  const auto r = run_luxloc("run --playback '" + demo_dir() + "' --out '" + out + "' --mqtt 127.0.0.1:" +
                             std::to_string(port));
   INFO(r.output);
   CHECK(r.exit_code == 0);
+  // Said at the end: how many poses the broker did not get, and why.
+  CHECK(r.output.find("output mqtt:127.0.0.1:" + std::to_string(port) + ": ") != std::string::npos);
+  CHECK(r.output.find("poses not delivered (no broker)") != std::string::npos);
   const auto base = run_luxloc("run --playback '" + demo_dir() + "' -q --out '" + ref + "'");
   REQUIRE(base.exit_code == 0);
   const std::string poses = read_text(out);
