@@ -123,6 +123,7 @@ void add_bench_command(CLI::App& root, Action& action) {
   pf->add_option("--seed", args->seed, "random seed")->capture_default_str();
   pf->callback([&action, args] { action = [args] { return run_bench_pf(*args); }; });
   add_bench_soak(*bench, action);
+  add_bench_live(*bench, action);
 }
 
 }  // namespace luxloc::app

@@ -1,11 +1,13 @@
 // `luxloc eval`: compares a pose file against groundtruth.csv (SPEC.md "Command line").
 #include <cstdio>
+#include <fstream>
 #include <iostream>
 #include <memory>
 #include <string>
 
 #include "app/commands.hpp"
 #include "core/common/input_error.hpp"
+#include "core/eval/trajectory_html.hpp"
 #include "core/eval/trajectory_io.hpp"
 #include "core/eval/trajectory_metrics.hpp"
 #include "core/eval/trajectory_plot.hpp"
@@ -17,6 +19,7 @@ struct EvalArgs {
   std::string truth;
   std::string poses;
   std::string plot;
+  std::string html;
   bool json = false;
   double bin_s = 1.0;
 };
@@ -39,12 +42,19 @@ int run_eval(const EvalArgs& a) {
     plot.title = "luxloc eval";
     write_trajectory_plot(a.plot, truth, r, plot);
   }
+  if (!a.html.empty()) {
+    std::ofstream html(a.html, std::ios::binary);
+    html << trajectory_report_html(truth, r, "luxloc eval: " + a.poses);
+    html.flush();
+    if (!html) throw InputError(a.html, 0, "--html", "cannot write the report");
+  }
   if (a.json) {
     std::cout << format_eval_json(r) << "\n";
   } else {
     std::cout << "truth            " << a.truth << " (" << truth.size() << " rows)\n"
               << "poses            " << a.poses << " (" << poses.size() << " rows)\n";
     if (!a.plot.empty()) std::cout << "plot             " << a.plot << "\n";
+    if (!a.html.empty()) std::cout << "html             " << a.html << "\n";
     std::cout << format_eval_report(r);
   }
   std::cout.flush();
@@ -64,6 +74,8 @@ void add_eval_command(CLI::App& root, Action& action) {
       ->required()
       ->check(CLI::ExistingFile);
   cmd->add_option("--plot", args->plot, "write a PNG: XY truth vs estimate, and error over time");
+  cmd->add_option("--html", args->html,
+                  "write a static HTML report: trajectory vs truth, error over time, error histogram (no script)");
   cmd->add_flag("--json", args->json, "print the metrics as one JSON object instead of text");
   cmd->add_option("--coverage-bin", args->bin_s, "bin width of the coverage measure, seconds")
       ->check(CLI::PositiveNumber)

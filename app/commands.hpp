@@ -24,6 +24,8 @@ void add_calib_ledmap(CLI::App& calib, Action& action);
 void add_calib_rowtime(CLI::App& calib, Action& action);
 // `bench soak` (app/cmd_bench_soak.cpp), registered under `bench`.
 void add_bench_soak(CLI::App& bench, Action& action);
+// `bench live` (app/cmd_bench_live.cpp), registered under `bench`.
+void add_bench_live(CLI::App& bench, Action& action);
 void add_devices_command(CLI::App& root, Action& action);
 void add_vlc_command(CLI::App& root, Action& action);
 

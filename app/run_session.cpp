@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <csignal>
+#include <cstdlib>
 #include <iomanip>
 #include <memory>
 #include <ostream>
@@ -14,7 +15,9 @@
 #include "core/imu/imu_calibration.hpp"
 #include "plugins/output/pose_file_sinks.hpp"
 #include "plugins/output/status_line.hpp"
+#include "plugins/output/mqtt_pose_sink.hpp"
 #include "plugins/output/udp_pose_sink.hpp"
+#include "plugins/web/live_view_sink.hpp"
 #include "core/pipeline/counting_stage.hpp"
 #include <unistd.h>
 #include <cstdio>
@@ -121,6 +124,24 @@ void add_run_options(CLI::App* sub, RunConfig& cfg) {
       ->capture_default_str();
   sub->add_option("--udp", cfg.udp, "stream poses as JSON datagrams to HOST:PORT (repeatable)")
       ->type_name("HOST:PORT");
+  sub->add_option("--mqtt", cfg.mqtt,
+                  "publish poses as JSON to an MQTT broker, on TOPIC (default luxloc/<device-id>/pose), status "
+                  "once a second on luxloc/<device-id>/status (repeatable)")
+      ->type_name("HOST:PORT[/TOPIC]");
+  sub->add_option("--device-id", cfg.device_id, "this device's id in the MQTT topics and messages (default: the host name)")
+      ->type_name("ID");
+  sub->add_option("--mqtt-tls-ca", cfg.mqtt_tls_ca, "MQTT over TLS: the CA certificate that signed the broker's")
+      ->type_name("FILE");
+  sub->add_option("--mqtt-user", cfg.mqtt_user, "MQTT user name")->type_name("NAME");
+  sub->add_option("--mqtt-password", cfg.mqtt_password,
+                  "MQTT password (default: the environment variable LUXLOC_MQTT_PASSWORD, which ps does not show)")
+      ->type_name("TEXT");
+  sub->add_option("--web", cfg.web,
+                  "serve a read-only live view (map, trajectory, pose, rates) to browsers on [HOST:]PORT; "
+                  "127.0.0.1 unless HOST is given (0.0.0.0: every interface)")
+      ->type_name("[HOST:]PORT");
+  sub->add_option("--web-token", cfg.web_token, "the live view requires ?token=TEXT in its URL (for --web on a network)")
+      ->type_name("TEXT");
   sub->add_option("--output-rate", cfg.fusion.output_rate_hz, "pose output rate, Hz (0 = every IMU sample)")
       ->check(CLI::Range(0.0, 10000.0))
       ->capture_default_str();
@@ -341,11 +362,41 @@ RunOutcome run_session(const RunConfig& cfg, std::ostream& log) {
 
   // Sinks.
   std::vector<PoseSinkPtr> sinks;
-  const std::string out = c.out.empty() && c.udp.empty() ? "-" : c.out;
+  const std::string out = c.out.empty() && c.udp.empty() && c.mqtt.empty() && c.web.empty() ? "-" : c.out;
   if (!out.empty()) sinks.push_back(make_pose_file_sink(out, parse_pose_format(c.format)));
   for (const auto& u : c.udp) sinks.push_back(std::make_unique<UdpPoseSink>(u));
-  // The live status line: on a terminal (or --status on), never into a pipe or a log file.
   auto counters = std::make_shared<SampleCounters>(session.sources.size());
+  RunMonitor monitor;
+  monitor.counters = counters;
+  for (const auto& src : session.sources) {
+    monitor.source_names.push_back(src->name());
+    monitor.source_drops.push_back(&src->drops());
+  }
+  if (!c.mqtt.empty()) {
+    MqttOptions mo;
+    mo.device_id = c.device_id;
+    mo.tls_ca = c.mqtt_tls_ca;
+    mo.user = c.mqtt_user;
+    mo.password = c.mqtt_password;
+    if (mo.password.empty())
+      if (const char* env = std::getenv("LUXLOC_MQTT_PASSWORD")) mo.password = env;
+    for (const auto& m : c.mqtt) sinks.push_back(std::make_unique<MqttPoseSink>(m, mo, monitor));
+  } else if (!c.device_id.empty()) {
+    check_device_id(c.device_id);
+  }
+  LiveViewSink* live_view = nullptr;  // owned by the pipeline's sinks
+  if (!c.web.empty()) {
+    LiveViewOptions wo;
+    wo.token = c.web_token;
+    wo.device_id = c.device_id.empty() ? default_device_id() : c.device_id;
+    auto view = std::make_unique<LiveViewSink>(c.web, wo, monitor, session.map);
+    if (!c.quiet) log << "luxloc: live view on " << view->url() << "\n";
+    live_view = view.get();
+    sinks.push_back(std::move(view));
+  } else if (!c.web_token.empty()) {
+    throw InputError("--web-token", 0, "", "a token without --web");
+  }
+  // The live status line: on a terminal (or --status on), never into a pipe or a log file.
   if (c.status == "on" || (c.status == "auto" && !c.quiet && isatty(fileno(stderr)) && out != "-")) {
     std::vector<std::string> names;
     for (const auto& src : session.sources) names.push_back(src->name());
@@ -355,6 +406,13 @@ RunOutcome run_session(const RunConfig& cfg, std::ostream& log) {
   }
 
   FusionEngine engine(c.fusion, session.map, session.camera, session.config, c.uwb, c.vo);
+  if (live_view)
+    engine.set_frame_observer([live_view](const FrameSample& f, const std::vector<LedObservation>& leds) {
+      live_view->offer_frame(f, leds);
+    });
+  if (live_view)
+    engine.set_cloud_observer([live_view](const std::vector<Eigen::Vector2d>& cloud) { live_view->offer_cloud(cloud); },
+                              std::chrono::milliseconds(333), 300);
   std::unique_ptr<SessionRecorder> recorder;
   if (!c.record.empty())
     recorder = std::make_unique<SessionRecorder>(c.record, session.map, session.camera, session.config);
@@ -441,6 +499,15 @@ void print_report(const RunOutcome& r, std::ostream& log) {
   if (r.vo.frames)
     log << "  vo: " << r.vo.frames << " frames, " << r.vo.motions << " motions fitted, " << r.vo.accepted
         << " velocity updates used, " << r.vo.rejected << " refused\n";
+  if (p.paced && p.latency.count)
+    log << "  latency (newest input to the outputs): p50 " << std::setprecision(2) << 1e3 * p.latency.p50_s << " ms, p99 "
+        << 1e3 * p.latency.p99_s << " ms, max " << 1e3 * p.latency.max_s << " ms over " << p.latency.count << " poses\n";
+  for (const auto& sink : p.sinks)
+    for (const auto& [reason, e] : sink.drops) {
+      log << "  output " << sink.name << ": " << e.count << " poses not delivered (" << reason << ")";
+      if (!e.first_message.empty()) log << ", first: " << e.first_message;
+      log << "\n";
+    }
   if (p.poses_dropped) log << "  outputs: " << p.poses_dropped << " poses dropped (output too slow)\n";
   log.unsetf(std::ios::floatfield);
 }

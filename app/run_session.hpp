@@ -30,6 +30,11 @@ struct RunConfig {
   std::string imu_calib;             // --imu-calib FILE (luxloc calib imu)
   std::string out;                   // pose file; "-" = stdout; empty and no --udp: stdout
   std::vector<std::string> udp;      // HOST:PORT, repeatable
+  std::vector<std::string> mqtt;     // HOST:PORT[/TOPIC], repeatable
+  std::string device_id;             // --device-id (MQTT topics, "device" field); empty: host name
+  std::string mqtt_tls_ca, mqtt_user, mqtt_password;
+  std::string web;        // --web [HOST:]PORT: the live view in a browser
+  std::string web_token;  // --web-token T: required as ?token=T
   std::string format = "csv";        // csv | tum
   bool realtime = false;
   int threads = 0;                   // 0 = all cores (TBB default)

@@ -30,7 +30,7 @@ SourcePtr make_live_source(const SourceSpec& spec) {
 
 void live_session_defaults(const SourceSpec& spec, LiveSessionDefaults& d) {
   if (spec.kind != "sim") return;
-  const sim::Scenario sc = sim::make_scenario(SimSourceOptions::from_spec(spec).scenario);
+  const sim::Scenario sc = SimSourceOptions::from_spec(spec).scenario_with_camera();
   if (!d.map) d.map = sc.map;
   if (!d.camera) d.camera = sc.camera;
   if (!std::isfinite(d.config.device_height_m)) d.config.device_height_m = sc.device_height_m;

@@ -7,7 +7,8 @@ cd "$(dirname "$0")/.."
 
 PACKAGES=(build-essential cmake ninja-build pkg-config git
           libeigen3-dev libopencv-dev libv4l-dev libtbb-dev libcli11-dev catch2 libbenchmark-dev zlib1g-dev
-          socat opencv-doc)
+          socat opencv-doc
+          libmosquitto-dev mosquitto mosquitto-clients libcpp-httplib-dev chromium)
 
 missing=()
 for p in "${PACKAGES[@]}"; do

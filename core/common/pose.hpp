@@ -1,5 +1,6 @@
 #pragma once
 #include <Eigen/Core>
+#include <cstdint>
 #include <limits>
 #include <string>
 
@@ -19,6 +20,12 @@ struct PoseEstimate {
   double n_eff = std::numeric_limits<double>::quiet_NaN();
   int leds = 0;             // LEDs decoded in the last frame
   std::string mode = "";    // e.g. "fused", "imu-only", "init"
+  // Set by the pipeline: when the newest input this pose used arrived in its source
+  // thread (steady clock, ns; 0 = unknown), and the age of that input when the pose was
+  // handed to the sinks (s; NaN = unknown). Not written to the pose files (runs stay
+  // reproducible); the live views show it.
+  std::int64_t input_arrival_ns = 0;
+  double latency_s = std::numeric_limits<double>::quiet_NaN();
 };
 
 }  // namespace luxloc

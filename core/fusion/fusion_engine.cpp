@@ -164,6 +164,7 @@ void FusionEngine::on_frame(const FrameSample& s, std::vector<PoseEstimate>&) {
   ++stats_.frames;
   if (!vlc_) return;
   DecodedFrame f = vlc_->decode(s);
+  if (frame_observer_) frame_observer_(s, accepted_leds(f));
   stats_.blobs_rejected += static_cast<std::uint64_t>(f.rejected);
   last_leds_ = f.leds;
   if (f.leds == 0) return;
@@ -361,6 +362,17 @@ void FusionEngine::emit(TimeNs t, std::vector<PoseEstimate>& out, bool force) {
   ++stats_.poses;
   t_last_emit_ = t;
   emitted_ = true;
+  if (cloud_observer_ && pf_ && pf_->size() > 0 && cloud_points_ > 0) {
+    const auto now = std::chrono::steady_clock::now();
+    if (now - last_cloud_ >= cloud_interval_) {
+      last_cloud_ = now;
+      const std::size_t stride = std::max<std::size_t>(1, pf_->size() / cloud_points_);
+      std::vector<Eigen::Vector2d> cloud;
+      cloud.reserve(cloud_points_ + 1);
+      for (std::size_t i = 0; i < pf_->size(); i += stride) cloud.push_back(pf_->position(i));
+      cloud_observer_(cloud);
+    }
+  }
 }
 
 }  // namespace luxloc

@@ -3,7 +3,9 @@
 // filter's prediction; decoded LED frames and absolute fixes correct it. Camera frames are
 // held until the IMU timeline passes their observation time, so each correction is applied
 // at the moment its rows were exposed, not when the frame started.
+#include <chrono>
 #include <deque>
+#include <functional>
 #include <memory>
 #include <optional>
 
@@ -30,6 +32,20 @@ class FusionEngine final : public FusionStage {
   void process(const Sample& sample, std::vector<PoseEstimate>& out) override;
   void finish(std::vector<PoseEstimate>& out) override;
 
+  // Called on the fusion thread with every decoded camera frame and its identified LEDs
+  // (the live view's camera picture); it must be quick (the live view copies at most a
+  // few frames a second and returns).
+  using FrameObserver = std::function<void(const FrameSample&, const std::vector<LedObservation>&)>;
+  void set_frame_observer(FrameObserver observer) { frame_observer_ = std::move(observer); }
+  // Called from the pose output at most every `interval` (wall clock) with up to `points`
+  // particle positions (a strided subsample), for the live view's particle cloud; none
+  // for a filter without particles.
+  using CloudObserver = std::function<void(const std::vector<Eigen::Vector2d>&)>;
+  void set_cloud_observer(CloudObserver observer, std::chrono::milliseconds interval, std::size_t points) {
+    cloud_observer_ = std::move(observer);
+    cloud_interval_ = interval;
+    cloud_points_ = points;
+  }
   const FusionStats& stats() const { return stats_; }
   const UwbStats& uwb_stats() const { return uwb_->stats(); }
   const VoStats& vo_stats() const { return vo_stats_; }
@@ -80,6 +96,11 @@ class FusionEngine final : public FusionStage {
   VoStats vo_stats_;
   double vo_heading_ = 0.0;
   bool vo_heading_valid_ = false;
+  FrameObserver frame_observer_;
+  CloudObserver cloud_observer_;
+  std::chrono::milliseconds cloud_interval_{333};
+  std::size_t cloud_points_ = 0;
+  std::chrono::steady_clock::time_point last_cloud_{};
 };
 
 }  // namespace luxloc

@@ -10,6 +10,11 @@ struct DecodedFrame::Impl {
   std::vector<LedObservation> accepted;  // identified LEDs only
 };
 
+const std::vector<LedObservation>& accepted_leds(const DecodedFrame& frame) {
+  static const std::vector<LedObservation> none;
+  return frame.impl ? frame.impl->accepted : none;
+}
+
 struct VlcFrontend::State {
   State(const CameraModel& c, const LedMap& m, const FusionOptions& o, double h)
       : camera(c), map(m), options(o), device_height_m(h), decoder(c, m) {}

@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 #include <memory>
 #include <optional>
+#include <vector>
 
 #include "core/common/samples.hpp"
 #include "core/filter/planar_filter.hpp"
@@ -12,6 +13,7 @@
 #include "core/fusion/reprojection_likelihood.hpp"
 #include "core/vlc/camera_model.hpp"
 #include "core/vlc/led_map.hpp"
+#include "core/vlc/led_observation.hpp"
 
 namespace luxloc {
 
@@ -23,6 +25,9 @@ struct DecodedFrame {
   struct Impl;
   std::shared_ptr<const Impl> impl;  // the decoder's observations
 };
+
+// The identified LEDs of a decoded frame (for the live view's camera overlay).
+const std::vector<LedObservation>& accepted_leds(const DecodedFrame& frame);
 
 class VlcFrontend {
  public:

@@ -6,6 +6,7 @@
 
 #include "core/common/memory_trim.hpp"
 #include "core/pipeline/clock_rebase.hpp"
+#include "core/pipeline/doorbell.hpp"
 #include "core/pipeline/source_silence.hpp"
 #include "core/pipeline/spsc_queue.hpp"
 
@@ -13,23 +14,6 @@ namespace luxloc {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-// Spin briefly, then yield, then sleep: cheap when data is about to arrive, idle otherwise.
-class Backoff {
- public:
-  void wait() {
-    if (++n_ < 64) return;
-    if (n_ < 256) {
-      std::this_thread::yield();
-      return;
-    }
-    std::this_thread::sleep_for(std::chrono::microseconds(50));
-  }
-  void reset() { n_ = 0; }
-
- private:
-  unsigned n_ = 0;
-};
 
 struct QueuedSample {
   Sample sample;
@@ -81,19 +65,25 @@ PipelineReport Pipeline::run(FusionStage& stage) {
   for (std::size_t i = 0; i < n; ++i) lanes.push_back(std::make_unique<Lane>(options_.source_queue_capacity));
   SpscQueue<PoseEstimate> poses(options_.pose_queue_capacity);
   std::atomic<bool> fusion_done{false};
+  // Who sleeps on what when its ring is empty (or full): the fusion thread on input_bell
+  // (a source pushed or ended), the output thread on pose_bell (poses, or the end), a
+  // playback source on space_bell (the fusion thread took a sample), the fusion thread on
+  // pose_space_bell (the output thread took a pose).
+  Doorbell input_bell, pose_bell, space_bell, pose_space_bell;
   std::atomic<std::uint64_t> poses_written{0}, poses_dropped{0};
   std::string sink_failure;
+  LatencyHistogram latency;  // the output thread's
 
   // --- one thread per source ---
   std::vector<std::thread> source_threads;
   for (std::size_t i = 0; i < n; ++i) {
-    source_threads.emplace_back([this, i, &lanes] {
+    source_threads.emplace_back([this, i, &lanes, &input_bell, &space_bell] {
       Source& src = *sources_[i];
       Lane& lane = *lanes[i];
       const TimeNs offset = i < options_.clock_offsets_ns.size() ? options_.clock_offsets_ns[i] : 0;
       const bool rebase = src.live() && src.clock_follows_arrival();
       ClockRebase clock;
-      Backoff backoff;
+      IdleWait backoff;
       try {
         SensorData d;
         while (!stop_.load(std::memory_order_relaxed) && src.next(d)) {
@@ -116,13 +106,18 @@ PipelineReport Pipeline::run(FusionStage& stage) {
             lane.bytes.fetch_sub(bytes, std::memory_order_acq_rel);
             return false;
           };
-          while (!try_push()) {
+          for (;;) {
+            const std::uint64_t ticket = space_bell.ticket();
+            if (try_push()) {
+              input_bell.ring();
+              break;
+            }
             if (options_.live) {
               lane.drops.add("queue full", src.name() + ": fusion stage fell behind");
               break;
             }
             if (stop_.load(std::memory_order_relaxed)) break;
-            backoff.wait();
+            backoff.wait(space_bell, ticket);
           }
           d = SensorData{};
         }
@@ -131,12 +126,13 @@ PipelineReport Pipeline::run(FusionStage& stage) {
         lane.failure = e.what();
       }
       lane.done.store(true, std::memory_order_release);
+      input_bell.ring();
     });
   }
 
   // --- output thread: sinks never run on the fusion thread ---
   std::thread output_thread([&] {
-    Backoff backoff;
+    IdleWait backoff;
     // A sink that fails (disk full, closed pipe) is written no more and stops the run
     // (like a signal: every pose computed so far still goes to the other sinks); its file
     // keeps every complete row (TextFile).
@@ -149,6 +145,13 @@ PipelineReport Pipeline::run(FusionStage& stage) {
     auto drain_one = [&]() {
       std::optional<PoseEstimate> p = poses.try_pop();
       if (!p) return false;
+      pose_space_bell.ring();
+      if (p->input_arrival_ns != 0) {
+        p->latency_s = 1e-9 * static_cast<double>(
+                                  std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now().time_since_epoch()).count() -
+                                  p->input_arrival_ns);
+        latency.add(p->latency_s);
+      }
       for (std::size_t k = 0; k < sinks_.size(); ++k) {
         if (failed[k]) continue;
         try {
@@ -161,6 +164,7 @@ PipelineReport Pipeline::run(FusionStage& stage) {
       return true;
     };
     while (true) {
+      const std::uint64_t ticket = pose_bell.ticket();
       if (drain_one()) {
         backoff.reset();
         continue;
@@ -170,7 +174,7 @@ PipelineReport Pipeline::run(FusionStage& stage) {
         }
         break;
       }
-      backoff.wait();
+      backoff.wait(pose_bell, ticket);
     }
     for (std::size_t k = 0; k < sinks_.size(); ++k) {
       if (failed[k]) continue;
@@ -190,27 +194,35 @@ PipelineReport Pipeline::run(FusionStage& stage) {
     for (const auto& src : sources_) names.push_back(src->name());
     return names;
   }());
+  std::int64_t newest_arrival_ns = 0;  // of the samples fused so far
   auto emit = [&] {
+    if (out.empty()) return;
     for (auto& p : out) {
       silence.annotate(p);
-      Backoff b;
-      while (!poses.try_push(std::move(p))) {
+      p.input_arrival_ns = newest_arrival_ns;
+      IdleWait b;
+      for (;;) {
+        const std::uint64_t ticket = pose_space_bell.ticket();
+        if (poses.try_push(std::move(p))) break;
         if (options_.live) {
           poses_dropped.fetch_add(1, std::memory_order_relaxed);
           break;
         }
-        b.wait();
+        pose_bell.ring();  // the output thread may be asleep with a full ring
+        b.wait(pose_space_bell, ticket);
       }
     }
+    pose_bell.ring();
     out.clear();
   };
   TimeNs last_t = std::numeric_limits<TimeNs>::min();
   std::uint64_t fused_total = 0;
   bool have_first = false;
   TimeNs first_t = 0;
-  Backoff backoff;
+  IdleWait backoff;
   MemoryTrim trim;  // a backlog of frames must not stay in the RSS (core/common/memory_trim.hpp)
   while (!stop_.load(std::memory_order_relaxed)) {
+    const std::uint64_t ticket = input_bell.ticket();
     int best = -1;
     TimeNs best_t = 0;
     bool waiting = false, any_open = false;
@@ -235,18 +247,19 @@ PipelineReport Pipeline::run(FusionStage& stage) {
     }
     if (!any_open) break;  // every source ended and every queue is empty
     if (best < 0) {
-      backoff.wait();
+      backoff.wait(input_bell, ticket);
       continue;
     }
     if (waiting) {
       // A source may still deliver something older than `best`.
       if (!options_.live) {
-        backoff.wait();
+        backoff.wait(input_bell, ticket);
         continue;
       }
       const QueuedSample* head = lanes[static_cast<std::size_t>(best)]->queue.peek();
-      if (Clock::now() - head->arrival < options_.reorder_window) {
-        backoff.wait();
+      const auto give_up = head->arrival + options_.reorder_window;
+      if (Clock::now() < give_up) {
+        backoff.wait(input_bell, ticket, give_up);
         continue;
       }
     }
@@ -254,6 +267,7 @@ PipelineReport Pipeline::run(FusionStage& stage) {
     Lane& lane = *lanes[static_cast<std::size_t>(best)];
     QueuedSample item = std::move(*lane.queue.try_pop());
     if (item.bytes > 0) lane.bytes.fetch_sub(item.bytes, std::memory_order_release);
+    space_bell.ring();
     if (item.sample.t < last_t) {
       lane.drops.add("late (older than the reorder window)",
                      sources_[static_cast<std::size_t>(best)]->name() + ": sample " +
@@ -268,8 +282,11 @@ PipelineReport Pipeline::run(FusionStage& stage) {
     }
     if (options_.realtime) {
       std::this_thread::sleep_until(wall0 + std::chrono::nanoseconds(item.sample.t - first_t));
+      item.arrival = Clock::now();  // paced playback: a sample "arrives" when its time comes
     }
     ++lane.fused;
+    newest_arrival_ns = std::max<std::int64_t>(
+        newest_arrival_ns, std::chrono::duration_cast<std::chrono::nanoseconds>(item.arrival.time_since_epoch()).count());
     stage.process(item.sample, out);
     emit();
     trim.tick();
@@ -287,6 +304,7 @@ PipelineReport Pipeline::run(FusionStage& stage) {
   stage.finish(out);
   emit();
   fusion_done.store(true, std::memory_order_release);
+  pose_bell.ring();
 
   // Unblock and join the sources (live ones may sit in a blocking read).
   if (report.stopped)
@@ -313,6 +331,9 @@ PipelineReport Pipeline::run(FusionStage& stage) {
   report.last_t = have_first ? last_t : first_t;
   report.wall_s = std::chrono::duration<double>(Clock::now() - wall0).count();
   report.output_failure = sink_failure;
+  report.latency = latency.summary();
+  for (const auto& sink : sinks_) report.sinks.push_back({sink->name(), sink->drops().snapshot()});
+  report.paced = options_.live || options_.realtime;
   return report;
 }
 

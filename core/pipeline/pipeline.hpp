@@ -17,6 +17,7 @@
 
 #include "core/common/drop_counts.hpp"
 #include "core/pipeline/fusion_stage.hpp"
+#include "core/pipeline/latency_stats.hpp"
 #include "core/pipeline/pose_sink.hpp"
 #include "core/pipeline/source.hpp"
 
@@ -67,6 +68,11 @@ struct SourceReport {
   double first_clock_jump_s = 0.0;
 };
 
+struct SinkReport {
+  std::string name;
+  std::map<std::string, DropCounts::Entry> drops;  // poses not delivered, by reason
+};
+
 struct PipelineReport {
   std::vector<SourceReport> sources;
   std::uint64_t poses = 0;
@@ -77,6 +83,10 @@ struct PipelineReport {
   // Non-empty when a sink failed (disk full, closed pipe): that sink was written no more
   // and the run stopped; the other sinks got every pose.
   std::string output_failure;
+  // Age of the newest input of each pose when it was handed to the sinks (LatencyHistogram).
+  LatencySummary latency;
+  std::vector<SinkReport> sinks;  // every output, with what it could not deliver
+  bool paced = false;  // live or --realtime: the latency is the filter's (else queueing ahead)
   double data_span_s() const { return ns_to_seconds(last_t - first_t); }
 };
 

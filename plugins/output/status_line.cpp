@@ -45,6 +45,9 @@ std::string StatusLine::render(const PoseEstimate& p, double wall_s) {
                                   (std::isfinite(p.sigma_y) ? p.sigma_y * p.sigma_y : 0.0));
   s << " | LEDs " << p.leds << " | x " << p.p_BinW.x() << " y " << p.p_BinW.y() << " | sigma " << spread << " m";
   if (!p.mode.empty()) s << " | " << p.mode;
+  if (std::isfinite(p.latency_s)) latency_.add(p.latency_s);
+  if (const LatencySummary l = latency_.summary(); l.count > 0)
+    s << " | latency p50 " << 1e3 * l.p50_s << " p99 " << 1e3 * l.p99_s << " ms";
   return s.str();
 }
 
@@ -52,6 +55,7 @@ void StatusLine::write(const PoseEstimate& pose) {
   const auto now = std::chrono::steady_clock::now();
   last_pose_ = pose;
   if (drawn_ && now - last_draw_ < std::chrono::milliseconds(250)) {
+    if (std::isfinite(pose.latency_s)) latency_.add(pose.latency_s);
     pending_ = true;
     return;
   }

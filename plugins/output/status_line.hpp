@@ -1,7 +1,7 @@
 #pragma once
 // The one-line live status on stderr (`luxloc run`, on when stderr is a terminal, or
 // --status on): data time and a progress bar when the session's span is known, rate per
-// source, LEDs in view, filter spread, mode — redrawn in place at most 4 times a second,
+// source, LEDs in view, filter spread, mode, latency p50/p99 (live) — redrawn in place at most 4 times a second,
 // ended with a newline by flush(). A pose sink, so it runs on the output thread and never
 // slows the filter.
 #include <chrono>
@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/pipeline/counting_stage.hpp"
+#include "core/pipeline/latency_stats.hpp"
 #include "core/pipeline/pose_sink.hpp"
 
 namespace luxloc {
@@ -40,6 +41,7 @@ class StatusLine final : public PoseSink {
   bool pending_ = false;  // a pose arrived after the last drawing
   PoseEstimate last_pose_;
   std::size_t last_len_ = 0;
+  LatencyWindow latency_;  // of the last poses: p50 / p99 on the line
 };
 
 // First and last time stamps over a session folder's sensor CSVs (first data row and last

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <cstdio>
 #include <chrono>
 #include <limits>
@@ -30,6 +31,14 @@ SimSourceOptions SimSourceOptions::from_spec(const SourceSpec& spec) {
   o.sim.fps = spec.get_number("fps", o.sim.fps);
   if (o.sim.duration_s < 0.0 || !(o.sim.fps > 0.0))
     throw InputError("--source", 0, "duration", "duration must be >= 0 and fps > 0 in " + spec.text);
+  o.sim.imu_rate_hz = spec.get_number("imu_rate", o.sim.imu_rate_hz);
+  if (!(o.sim.imu_rate_hz >= 1.0 && o.sim.imu_rate_hz <= 10000.0))
+    throw InputError("--source", 0, "imu_rate", "imu_rate must be 1..10000 Hz in " + spec.text);
+  const double w = spec.get_number("width", 0.0), h = spec.get_number("height", 0.0);
+  if ((w != 0.0 || h != 0.0) && !(w >= 16 && w <= 8192 && h >= 16 && h <= 8192 && w == std::floor(w) && h == std::floor(h)))
+    throw InputError("--source", 0, "width", "width and height must be whole numbers of pixels 16..8192, both given, in " + spec.text);
+  o.width = static_cast<int>(w);
+  o.height = static_cast<int>(h);
   const std::string rt = spec.get("realtime", "1");
   if (rt != "0" && rt != "1") throw InputError("--source", 0, "realtime", "realtime must be 0 or 1 in " + spec.text);
   o.realtime = rt == "1";
@@ -93,9 +102,24 @@ bool later(const auto& a, const auto& b) { return a.t > b.t; }
 
 }  // namespace
 
+sim::Scenario SimSourceOptions::scenario_with_camera() const {
+  sim::Scenario sc = sim::make_scenario(scenario);
+  if (width > 0 && height > 0) {
+    CameraModel& c = sc.camera;
+    const double scale = static_cast<double>(height) / c.height;
+    c.fx *= scale;
+    c.fy *= scale;
+    c.width = width;
+    c.height = height;
+    c.cx = 0.5 * width;
+    c.cy = 0.5 * height;
+  }
+  return sc;
+}
+
 SimSource::SimSource(SimSourceOptions options)
     : options_(std::move(options)),
-      simulator_(sim::make_scenario(options_.scenario), options_.sim),
+      simulator_(options_.scenario_with_camera(), options_.sim),
       imu_(simulator_.imu_samples()),
       frames_(simulator_.scenario().frames && options_.frames ? simulator_.frame_count() : 0) {
   if (options_.uwb)

@@ -1,5 +1,5 @@
 #pragma once
-// `sim:SCENARIO[,seed=..,duration=..,fps=..,realtime=1|0,streams=..,FAULTS]`: the simulator (core/sim) as a
+// `sim:SCENARIO[,seed=..,duration=..,fps=..,imu_rate=..,width=..,height=..,realtime=1|0,streams=..,FAULTS]`: the simulator (core/sim) as a
 // live source — one stream of what `luxloc sim` would write for the scenario (IMU samples,
 // camera frames where the scenario has a camera, UWB measurements where it has anchors), in
 // time order, each
@@ -37,6 +37,12 @@ struct SimSourceOptions {
   bool split = false;                          // streams= given: a share of the scenario
   SimFaults faults;
   SensorLimits limits;  // the simulator's samples pass the same edge check as a device's
+  int width = 0, height = 0;  // width=, height=: the camera's image size (0: the scenario's)
+
+  // The scenario with the camera resized (width=, height=): square pixels, the focal
+  // length scaled with the height (the vertical field of view kept), centred principal
+  // point. The run's camera (live_session_defaults) and the rendered frames both use it.
+  sim::Scenario scenario_with_camera() const;
 
   // From a parsed --source spec; throws InputError (field = the key) for bad values.
   static SimSourceOptions from_spec(const SourceSpec& spec);
