@@ -158,7 +158,8 @@ struct SlowStage : FusionStage {
   std::atomic<int>* produced = nullptr;
   int fused = 0, most_ahead = 0;
   void process(const Sample&, std::vector<PoseEstimate>&) override {
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    // 8 ms: slow enough that the source (a 1 MiB frame each) gets ahead even under TSan.
+    std::this_thread::sleep_for(std::chrono::milliseconds(8));
     ++fused;
     most_ahead = std::max(most_ahead, produced->load() - fused);
   }
@@ -171,28 +172,28 @@ TEST_CASE("Pipeline bounds the frame memory queued per source (source_queue_byte
   // pushed ahead of the fusion, however many slots the queue has (256).
   std::atomic<int> produced{0};
   std::vector<SourcePtr> sources;
-  sources.push_back(std::make_unique<BigFrameSource>(60, produced));
+  sources.push_back(std::make_unique<BigFrameSource>(40, produced));
   PipelineOptions opt;
   opt.source_queue_bytes = std::size_t{4} << 20;
   Pipeline p(std::move(sources), {}, opt);
   SlowStage stage;
   stage.produced = &produced;
   const PipelineReport r = p.run(stage);
-  CHECK(stage.fused == 60);  // playback: waits, loses nothing
-  CHECK(r.sources[0].samples == 60);
+  CHECK(stage.fused == 40);  // playback: waits, loses nothing
+  CHECK(r.sources[0].samples == 40);
   CHECK(stage.most_ahead <= 5);
   CHECK(stage.most_ahead >= 3);  // the budget, not something smaller, is what held it
 
   SECTION("live: beyond the budget, frames are dropped as queue full") {
     std::atomic<int> live_produced{0};
     std::vector<SourcePtr> live;
-    live.push_back(std::make_unique<BigFrameSource>(60, live_produced));
+    live.push_back(std::make_unique<BigFrameSource>(40, live_produced));
     opt.live = true;
     Pipeline lp(std::move(live), {}, opt);
     SlowStage s2;
     s2.produced = &live_produced;
     const PipelineReport lr = lp.run(s2);
-    CHECK(lr.sources[0].drops.count("queue full") == 1);
-    CHECK(lr.sources[0].drops.at("queue full").count + static_cast<std::uint64_t>(s2.fused) == 60);
+    REQUIRE(lr.sources[0].drops.count("queue full") == 1);
+    CHECK(lr.sources[0].drops.at("queue full").count + static_cast<std::uint64_t>(s2.fused) == 40);
   }
 }
