@@ -24,7 +24,9 @@ for t in "${TARGETS[@]}"; do
   limit=(-max_total_time="$SECONDS_EACH")
   if [ -n "${FUZZ_RUNS:-}" ]; then limit=(-runs="$FUZZ_RUNS"); fi
   log=build-asan/fuzz-findings/$t.log
-  if build-asan/tests/fuzz/$t "${limit[@]}" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
+  # A fixed seed (FUZZ_SEED, default 1): CI explores the same inputs every time; set another
+  # seed for a new local campaign.
+  if build-asan/tests/fuzz/$t "${limit[@]}" -seed="${FUZZ_SEED:-1}" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
        -artifact_prefix="$findings/" "$work" "tests/fuzz/corpus/$t" >"$log" 2>&1; then
     execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log")
     echo "fuzz: $t: ok, $execs executions"
