@@ -10,7 +10,6 @@ void MemoryTrim::trim() {
 #if defined(__GLIBC__)
   ::malloc_trim(0);
 #endif
-  ++trims_;
 }
 
 }  // namespace luxloc

@@ -28,7 +28,6 @@ class MemoryTrim {
     last_ = now;
     trim();
   }
-  std::uint64_t trims() const { return trims_; }
   // Releases free heap pages of every arena now (no-op where the C library has no malloc_trim).
   void trim();
 
@@ -36,7 +35,6 @@ class MemoryTrim {
   std::chrono::milliseconds every_;
   std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
   std::uint32_t calls_ = 0;
-  std::uint64_t trims_ = 0;
 };
 
 }  // namespace luxloc

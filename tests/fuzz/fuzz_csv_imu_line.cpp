@@ -1,6 +1,5 @@
 // libFuzzer target: the text-line serial IMU parser (plugins/serial/csv_line_parser), in
 // both time modes (arrival, device clock) chosen by the first byte. Samples out are finite.
-#include <algorithm>
 
 #include "plugins/serial/csv_line_parser.hpp"
 #include "tests/fuzz/fuzz_support.hpp"
@@ -15,22 +14,17 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   DropCounts drops;
   CsvLineParser parser(drops, options);
   std::vector<ImuSample> out;
-  TimeNs t = 5'000'000'000;
-  std::size_t at = 1, chunk = 1 + data[0] % 29;
-  while (at < size) {
-    const std::size_t n = std::min(chunk, size - at);
-    t += 2'000'000;
-    const std::size_t before = out.size();
-    parser.feed(data + at, n, t, 86'805.0, out);
-    for (std::size_t i = before; i < out.size(); ++i) {
-      for (int k = 0; k < 3; ++k) {
-        fuzz::expect_finite(out[i].acc_inB[k], "acc");
-        fuzz::expect_finite(out[i].gyro_inB[k], "gyro");
-        if (out[i].has_mag) fuzz::expect_finite(out[i].mag_inB[k], "mag");
-      }
-    }
-    at += n;
-    chunk = 1 + (chunk * 5 + 1) % 50;
-  }
+  fuzz::feed_in_reads(data + 1, size - 1, 1 + data[0] % 29, 50, 5'000'000'000, 2'000'000,
+                      [&](const std::uint8_t* bytes, std::size_t n, TimeNs t) {
+                        const std::size_t before = out.size();
+                        parser.feed(bytes, n, t, 86'805.0, out);
+                        for (std::size_t i = before; i < out.size(); ++i) {
+                          for (int k = 0; k < 3; ++k) {
+                            fuzz::expect_finite(out[i].acc_inB[k], "acc");
+                            fuzz::expect_finite(out[i].gyro_inB[k], "gyro");
+                            if (out[i].has_mag) fuzz::expect_finite(out[i].mag_inB[k], "mag");
+                          }
+                        }
+                      });
   return 0;
 }

@@ -17,10 +17,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-TimeNs time_of(const SensorData& d) {
-  return std::visit([](const auto& s) { return s.t; }, d);
-}
-
 void play(const fs::path& dir) {
   PlaybackSession session = open_playback(dir);
   const SensorLimits limits;
@@ -31,8 +27,8 @@ void play(const fs::path& dir) {
       if (auto bad = check_plausible(d, limits)) fuzz::fail("implausible sample passed: " + bad->field + ": " + bad->what);
       // Strictly increasing, except UWB: ranges to several anchors may share a time stamp.
       const bool same_ok = std::holds_alternative<UwbSample>(d);
-      if (time_of(d) < last || (time_of(d) == last && !same_ok)) fuzz::fail("samples out of time order");
-      last = time_of(d);
+      if (sample_time(d) < last || (sample_time(d) == last && !same_ok)) fuzz::fail("samples out of time order");
+      last = sample_time(d);
     }
   }
 }

@@ -6,6 +6,7 @@
 // Anything else aborts, which libFuzzer reports as a finding.
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -52,6 +53,22 @@ inline std::vector<std::string_view> split_parts(std::string_view in, std::strin
 [[noreturn]] inline void fail(const std::string& what) {
   std::fprintf(stderr, "luxloc fuzz: %s\n", what.c_str());
   std::abort();
+}
+
+// Feeds `size` bytes to a stream parser the way a serial port delivers them: in reads of
+// 1..max_chunk bytes (the first `first` long, then varying), the clock advancing by `dt` ns
+// per read; read(bytes, n, t_end) parses and checks one read.
+template <class Read>
+void feed_in_reads(const std::uint8_t* data, std::size_t size, std::size_t first, std::size_t max_chunk, std::int64_t t,
+                   std::int64_t dt, Read read) {
+  std::size_t at = 0, chunk = first;
+  while (at < size) {
+    const std::size_t n = std::min(chunk, size - at);
+    t += dt;
+    read(data + at, n, t);
+    at += n;
+    chunk = 1 + (chunk * 7 + 3) % max_chunk;
+  }
 }
 
 inline void expect_finite(double v, const char* what) {

@@ -1,7 +1,6 @@
 // libFuzzer target: the UWB serial line parsers (plugins/uwb): the DWM1001 `lec`/`lep`
 // shell output and TOF+AOA records, chosen by the first byte. Ranges and fixes that come
 // out are finite; an AOA is either absent (NaN) or finite.
-#include <algorithm>
 #include <memory>
 
 #include "plugins/uwb/dwm1001_parser.hpp"
@@ -38,16 +37,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     parser = std::make_unique<TofAoaLineParser>(drops);
   }
   std::vector<SensorData> out;
-  TimeNs t = 1'000'000'000;
-  std::size_t at = 1, chunk = 1 + data[0] % 41;
-  while (at < size) {
-    const std::size_t n = std::min(chunk, size - at);
-    t += 10'000'000;
-    const std::size_t before = out.size();
-    parser->feed(data + at, n, t, 86'805.0, out);
-    for (std::size_t i = before; i < out.size(); ++i) check(out[i]);
-    at += n;
-    chunk = 1 + (chunk * 3 + 7) % 80;
-  }
+  fuzz::feed_in_reads(data + 1, size - 1, 1 + data[0] % 41, 80, 1'000'000'000, 10'000'000,
+                      [&](const std::uint8_t* bytes, std::size_t n, TimeNs t) {
+                        const std::size_t before = out.size();
+                        parser->feed(bytes, n, t, 86'805.0, out);
+                        for (std::size_t i = before; i < out.size(); ++i) check(out[i]);
+                      });
   return 0;
 }
