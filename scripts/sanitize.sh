@@ -13,17 +13,7 @@ MODE=${1:?usage: sanitize.sh asan|tsan [--build-only]}
 BUILD_ONLY=${2:-}
 
 PACKAGES=(clang libclang-rt-14-dev llvm)
-missing=()
-for p in "${PACKAGES[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
-if [ ${#missing[@]} -gt 0 ]; then
-  echo "sanitize: installing ${missing[*]}"
-  SUDO=""; if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
-  export DEBIAN_FRONTEND=noninteractive
-  $SUDO apt-get update -qq
-  $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
-fi
+bash scripts/install_packages.sh sanitize "${PACKAGES[@]}"
 
 JOBS=${LUXLOC_JOBS:-$(nproc)}
 LAUNCHER=()

@@ -10,18 +10,7 @@ PACKAGES=(build-essential cmake ninja-build pkg-config git
           socat opencv-doc
           libmosquitto-dev mosquitto mosquitto-clients libcpp-httplib-dev chromium)
 
-missing=()
-for p in "${PACKAGES[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
-if [ ${#missing[@]} -gt 0 ]; then
-  echo "setup: installing ${missing[*]}"
-  SUDO=""
-  if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
-  export DEBIAN_FRONTEND=noninteractive
-  $SUDO apt-get update -qq
-  $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
-fi
+bash scripts/install_packages.sh setup "${PACKAGES[@]}"
 
 BUILD_DIR=${LUXLOC_BUILD_DIR:-build}
 JOBS=${LUXLOC_JOBS:-$(nproc)}
