@@ -160,6 +160,9 @@ void add_run_options(CLI::App* sub, RunConfig& cfg) {
       ->capture_default_str();
   sub->add_flag("--no-accelerometer", [&cfg](std::int64_t) { cfg.fusion.use_accelerometer = false; },
                 "constant-velocity prediction (ignore the accelerometer; = --motion cv)");
+  sub->add_flag("--no-heading-state", [&cfg](std::int64_t) { cfg.fusion.pf.heading.enabled = false; },
+                "keep the AHRS yaw as the heading (no yaw-offset state in the filter, no feedback into the AHRS; "
+                "for comparisons, docs/MOTION.md \"Heading\")");
   sub->add_option("--absolute-for", cfg.fusion.absolute_for_s,
                   "use absolute corrections (VLC, fixes) only for S seconds after initialisation, then dead-reckon")
       ->check(CLI::PositiveNumber)
@@ -485,6 +488,14 @@ void print_report(const RunOutcome& r, std::ostream& log) {
       log << ", gait calibrated to step-length scale " << std::setprecision(3) << f.gait_scale
           << ", heading offset " << std::setprecision(2) << f.gait_heading_offset_rad * 180.0 / 3.141592653589793
           << " deg";
+    log << std::setprecision(2) << "\n";
+  }
+  if (f.heading_transfers || f.camera_yaw_used || f.camera_yaw_rejected || std::isfinite(f.sigma_yaw_rad)) {
+    log << "  heading: " << f.heading_transfers << " corrections of the AHRS yaw, gyro z bias learnt "
+        << std::setprecision(3) << -f.heading_learnt_rate_rps * 180.0 / 3.141592653589793 << " deg/s";
+    if (f.camera_yaw_used || f.camera_yaw_rejected)
+      log << ", camera yaw " << f.camera_yaw_used << " used / " << f.camera_yaw_rejected << " gated";
+    if (std::isfinite(f.sigma_yaw_rad)) log << ", final sigma_yaw " << f.sigma_yaw_rad * 180.0 / 3.141592653589793 << " deg";
     log << std::setprecision(2) << "\n";
   }
   const UwbStats& u = r.uwb;

@@ -17,6 +17,7 @@ struct PoseEstimate {
   double pitch = 0.0;  // rad
   double sigma_x = std::numeric_limits<double>::quiet_NaN();
   double sigma_y = std::numeric_limits<double>::quiet_NaN();
+  double sigma_yaw = std::numeric_limits<double>::quiet_NaN();  // rad, 1 sigma of the fused yaw
   double n_eff = std::numeric_limits<double>::quiet_NaN();
   int leds = 0;             // LEDs decoded in the last frame
   std::string mode = "";    // e.g. "fused", "imu-only", "init"

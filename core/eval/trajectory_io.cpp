@@ -35,12 +35,16 @@ TimeNs checked_time(const std::string& path, int line, double t) {
 std::vector<TrajectoryPoint> read_csv_trajectory(CsvReader& r, bool strictly_increasing) {
   const int ct = r.require_column("t"), cx = r.require_column("x"), cy = r.require_column("y");
   const int cz = r.column("z"), cyaw = r.column("yaw");
+  const int csx = r.column("sigma_x"), csy = r.column("sigma_y"), csyaw = r.column("sigma_yaw");
   std::vector<TrajectoryPoint> out;
   while (r.next_row()) {
     TrajectoryPoint p;
     p.t = checked_time(r.path(), r.line(), r.number(ct));
     p.p_inW = {r.number(cx), r.number(cy), r.number_or(cz, 0.0)};
     p.yaw = r.number_or(cyaw, kNaN);
+    p.sigma_x = r.number_or(csx, kNaN);
+    p.sigma_y = r.number_or(csy, kNaN);
+    p.sigma_yaw = r.number_or(csyaw, kNaN);
     if (strictly_increasing && !out.empty() && p.t <= out.back().t)
       throw InputError(r.path(), r.line(), "t",
                        p.t == out.back().t ? "duplicated time stamp" : "time goes backwards (rows must be in time order)");

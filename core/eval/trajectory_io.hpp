@@ -15,11 +15,16 @@ struct TrajectoryPoint {
   TimeNs t = 0;
   Eigen::Vector3d p_inW = Eigen::Vector3d::Zero();  // z = 0 when the file has none
   double yaw = std::numeric_limits<double>::quiet_NaN();  // NaN: not given
+  // The estimate's own 1-sigma (pose files' sigma_x, sigma_y, sigma_yaw; NaN: not given),
+  // for the consistency figures of `luxloc eval`.
+  double sigma_x = std::numeric_limits<double>::quiet_NaN();
+  double sigma_y = std::numeric_limits<double>::quiet_NaN();
+  double sigma_yaw = std::numeric_limits<double>::quiet_NaN();
 };
 using TruthRow = TrajectoryPoint;
 using PoseRow = TrajectoryPoint;
 
-inline PoseRow to_pose_row(const PoseEstimate& p) { return {p.t, p.p_BinW, p.yaw}; }
+inline PoseRow to_pose_row(const PoseEstimate& p) { return {p.t, p.p_BinW, p.yaw, p.sigma_x, p.sigma_y, p.sigma_yaw}; }
 
 // groundtruth.csv: t,x,y required; z, yaw optional (empty yaw field -> NaN). Evaluation is
 // strict: any bad row, fewer than 2 rows, or times not strictly increasing -> InputError

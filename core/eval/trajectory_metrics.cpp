@@ -67,8 +67,9 @@ EvalResult evaluate(const std::vector<TruthRow>& truth, const std::vector<PoseRo
   for (const PoseRow& p : poses) sorted.push_back(&p);
   std::stable_sort(sorted.begin(), sorted.end(), [](const PoseRow* a, const PoseRow* b) { return a->t < b->t; });
 
-  std::vector<double> err;
-  double yaw_sq = 0.0;
+  std::vector<double> err, yaw_abs;
+  double yaw_sq = 0.0, sigma_sum = 0.0;
+  std::size_t inside = 0, inside_yaw = 0;
   for (const PoseRow* p : sorted) {
     TruthRow g;
     if (!interpolate_truth(truth, p->t, g)) {
@@ -83,13 +84,36 @@ EvalResult evaluate(const std::vector<TruthRow>& truth, const std::vector<PoseRo
     if (std::isfinite(p->yaw) && std::isfinite(g.yaw)) {
       e.yaw_err_rad = wrap_angle(p->yaw - g.yaw);
       yaw_sq += e.yaw_err_rad * e.yaw_err_rad;
+      yaw_abs.push_back(std::abs(e.yaw_err_rad));
       ++r.n_yaw;
+      if (std::isfinite(p->sigma_yaw) && p->sigma_yaw > 0.0) {
+        e.yaw_z = std::abs(e.yaw_err_rad) / p->sigma_yaw;
+        ++r.n_sigma_yaw;
+        if (e.yaw_z <= 1.96) ++inside_yaw;
+      }
+    }
+    if (std::isfinite(p->sigma_x) && std::isfinite(p->sigma_y) && p->sigma_x > 0.0 && p->sigma_y > 0.0) {
+      const Eigen::Vector2d d = e.p_est - e.p_truth;
+      e.mahalanobis2 = d.x() * d.x() / (p->sigma_x * p->sigma_x) + d.y() * d.y() / (p->sigma_y * p->sigma_y);
+      ++r.n_sigma;
+      if (e.mahalanobis2 <= 5.991) ++inside;
+      sigma_sum += std::sqrt(0.5 * (p->sigma_x * p->sigma_x + p->sigma_y * p->sigma_y));
     }
     err.push_back(e.err_m);
     r.errors.push_back(e);
   }
   r.n = r.errors.size();
-  if (r.n_yaw > 0) r.yaw_rmse_rad = std::sqrt(yaw_sq / static_cast<double>(r.n_yaw));
+  if (r.n_yaw > 0) {
+    r.yaw_rmse_rad = std::sqrt(yaw_sq / static_cast<double>(r.n_yaw));
+    r.yaw_p50_rad = percentile(yaw_abs, 0.5);
+    r.yaw_p95_rad = percentile(yaw_abs, 0.95);
+    r.yaw_max_rad = *std::max_element(yaw_abs.begin(), yaw_abs.end());
+  }
+  if (r.n_sigma > 0) {
+    r.consistency = static_cast<double>(inside) / static_cast<double>(r.n_sigma);
+    r.mean_sigma_m = sigma_sum / static_cast<double>(r.n_sigma);
+  }
+  if (r.n_sigma_yaw > 0) r.yaw_consistency = static_cast<double>(inside_yaw) / static_cast<double>(r.n_sigma_yaw);
 
   // Coverage (kCoverageDefinition): length-weighted share of covered bins.
   const double span = ns_to_seconds(r.truth_t1 - r.truth_t0);
@@ -132,7 +156,9 @@ std::string format_eval_summary(const EvalResult& r) {
         fmt("%.3f", r.p95_m) + " | max " + fmt("%.3f", r.max_m) + " | n " + std::to_string(r.n) +
         " | coverage " + fmt("%.1f", 100.0 * r.coverage) + " %";
   }
-  if (r.n_yaw > 0) s += " | yaw RMSE " + fmt("%.2f", rad_to_deg(r.yaw_rmse_rad)) + " deg";
+  if (r.n_yaw > 0)
+    s += " | yaw RMSE " + fmt("%.2f", rad_to_deg(r.yaw_rmse_rad)) + " deg, p95 " + fmt("%.2f", rad_to_deg(r.yaw_p95_rad));
+  if (r.n_sigma > 0) s += " | within 95 % " + fmt("%.1f", 100.0 * r.consistency) + " %";
   return s;
 }
 
@@ -157,6 +183,15 @@ std::string format_eval_report(const EvalResult& r) {
          " deg) over " + std::to_string(r.n_yaw) + " poses\n";
   else
     s += "yaw RMSE         - (the estimate or the truth has no yaw)\n";
+  if (r.n_yaw > 0)
+    s += "yaw |error|      p50 " + fmt("%.2f", rad_to_deg(r.yaw_p50_rad)) + " deg, p95 " +
+         fmt("%.2f", rad_to_deg(r.yaw_p95_rad)) + " deg, max " + fmt("%.2f", rad_to_deg(r.yaw_max_rad)) + " deg\n";
+  if (r.n_sigma > 0)
+    s += "sigma            " + fmt("%.1f", 100.0 * r.consistency) +
+         " % of the poses within their 95 % ellipse (an honest sigma: ~95 %), mean sigma " +
+         fmt("%.4f", r.mean_sigma_m) + " m over " + std::to_string(r.n_sigma) + " poses\n";
+  if (r.n_sigma_yaw > 0)
+    s += "sigma_yaw        " + fmt("%.1f", 100.0 * r.yaw_consistency) + " % of the poses within 1.96 sigma_yaw\n";
   s += format_eval_summary(r) + "\n";
   return s;
 }
@@ -186,6 +221,14 @@ std::string format_eval_json(const EvalResult& r) {
   if (r.n > 0) add("t_max", num(ns_to_seconds(r.t_max), "%.6f"));
   add("n_yaw", std::to_string(r.n_yaw));
   add("yaw_rmse_rad", num(r.yaw_rmse_rad, "%.6f"));
+  add("yaw_p50_rad", num(r.yaw_p50_rad, "%.6f"));
+  add("yaw_p95_rad", num(r.yaw_p95_rad, "%.6f"));
+  add("yaw_max_rad", num(r.yaw_max_rad, "%.6f"));
+  add("n_sigma", std::to_string(r.n_sigma));
+  add("consistency", num(r.consistency, "%.6f"));
+  add("mean_sigma_m", num(r.mean_sigma_m, "%.6f"));
+  add("n_sigma_yaw", std::to_string(r.n_sigma_yaw));
+  add("yaw_consistency", num(r.yaw_consistency, "%.6f"));
   s += '}';
   return s;
 }

@@ -28,6 +28,10 @@ struct PoseError {
   Eigen::Vector2d p_truth = Eigen::Vector2d::Zero();
   double err_m = 0.0;                                           // |p_est - p_truth| (x, y)
   double yaw_err_rad = std::numeric_limits<double>::quiet_NaN();  // wrapped; NaN: a yaw missing
+  // Error against the estimate's own sigma: (ex/sx)^2 + (ey/sy)^2 and |e_yaw| / sigma_yaw;
+  // NaN when the pose file has no sigma.
+  double mahalanobis2 = std::numeric_limits<double>::quiet_NaN();
+  double yaw_z = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct EvalResult {
@@ -46,6 +50,17 @@ struct EvalResult {
   // Yaw, over poses where both the estimate and the truth have one (angles wrapped).
   std::size_t n_yaw = 0;
   double yaw_rmse_rad = std::numeric_limits<double>::quiet_NaN();
+  double yaw_p50_rad = std::numeric_limits<double>::quiet_NaN();  // of |yaw error|
+  double yaw_p95_rad = std::numeric_limits<double>::quiet_NaN();
+  double yaw_max_rad = std::numeric_limits<double>::quiet_NaN();
+  // Honesty of the reported uncertainty (issue 12): the share of poses whose error lies in
+  // the estimate's 95 % region, (ex/sx)^2 + (ey/sy)^2 <= 5.99 (chi-square, 2 dof: the
+  // 2.45-sigma circle when sx = sy) and |e_yaw| <= 1.96 sigma_yaw; ~0.95 for an honest
+  // filter, far less for an overconfident one. NaN without sigma columns.
+  std::size_t n_sigma = 0, n_sigma_yaw = 0;
+  double consistency = std::numeric_limits<double>::quiet_NaN();
+  double yaw_consistency = std::numeric_limits<double>::quiet_NaN();
+  double mean_sigma_m = std::numeric_limits<double>::quiet_NaN();  // mean of sqrt((sx^2 + sy^2) / 2)
   std::vector<PoseError> errors;  // the evaluated poses, in time order
 };
 

@@ -128,6 +128,7 @@ GeneticStats genetic_resample(ParticleSet& set, std::span<const float> log_w, fl
           set.ks[i] = alpha * set.ks[j] + (1.0f - alpha) * set.ks[i];
           set.dpsi[i] = alpha * set.dpsi[j] + (1.0f - alpha) * set.dpsi[i];
         }
+        if (set.heading) set.yaw[i] = alpha * set.yaw[j] + (1.0f - alpha) * set.yaw[i];
       }
     }
     mutated[c] = m;

@@ -90,6 +90,7 @@ void ParticleFilter::reset_weights_uniform() {
 void ParticleFilter::initialize(const Eigen::Vector2d& p, const Eigen::Matrix2d& cov_p) {
   if (!p.allFinite()) return;
   const std::size_t n = options_.particles;
+  set_.heading = options_.heading.enabled;
   set_.resize(n);
   origin_ = p;
   // Cholesky factor of the spread; a covariance that is not positive definite falls back
@@ -119,6 +120,8 @@ void ParticleFilter::initialize(const Eigen::Vector2d& p, const Eigen::Matrix2d&
     }
   });
   if (set_.gait) draw_gait_prior(++step_);  // the gait calibration starts over too
+  if (set_.heading) draw_heading_prior(++step_);
+  pending_yaw_var_ = 0.0;
   reset_weights_uniform();
   averages_.reset();  // a new prior: the old likelihood level says nothing about it
   consecutive_rejections_ = 0;
@@ -140,6 +143,94 @@ void ParticleFilter::draw_gait_prior(std::uint64_t step) {
       MapF(set_.ks.data() + blk, idx(len)) = (1.0f + s_k * CMapU(noise, idx(len))).max(k_lo).min(k_hi);
       MapF(set_.dpsi.data() + blk, idx(len)) = s_d * CMapU(noise + len, idx(len));
     }
+  });
+}
+
+void ParticleFilter::draw_heading_prior(std::uint64_t step) {
+  const float s_e = static_cast<float>(options_.heading.sigma0_rad);
+  for_each_particle_chunk(set_.size(), [&](std::size_t c, std::size_t b, std::size_t e) {
+    LaneRng rng(options_.seed, step, 0x4EAD0000ull + c);
+    alignas(32) float noise[kBlock];
+    for (std::size_t blk = b; blk < e; blk += kBlock) {
+      const std::size_t len = std::min(kBlock, e - blk);
+      rng.fill_normal(noise, LaneRng::round_up(len, 16));
+      MapF(set_.yaw.data() + blk, idx(len)) = s_e * CMapU(noise, idx(len));
+    }
+  });
+}
+
+void ParticleFilter::walk_heading(const MotionInput& u) {
+  if (!set_.heading) return;
+  // HeadingNoise: white walk plus the drift of an unknown residual gyro bias, whose
+  // variance (sigma_b t)^2 grows at 2 sigma_b^2 t since the heading was last fixed.
+  const HeadingNoise& h = options_.heading;
+  const double t = std::clamp(std::isfinite(u.heading_drift_s) ? u.heading_drift_s : h.max_drift_s, 0.0, h.max_drift_s);
+  const double rate = h.walk_rad * h.walk_rad + 2.0 * h.bias_sigma_rps * h.bias_sigma_rps * t;
+  if (rate > 0.0 && std::isfinite(rate)) pending_yaw_var_ += rate * u.dt;
+}
+
+void ParticleFilter::flush_heading_walk() {
+  if (!set_.heading || !(pending_yaw_var_ > 0.0)) return;
+  // Capped at 1 rad^2: beyond that the heading is unknown anyway.
+  const float s_e = static_cast<float>(std::sqrt(std::min(pending_yaw_var_, 1.0)));
+  pending_yaw_var_ = 0.0;
+  const std::uint64_t step = ++step_;
+  for_each_particle_chunk(set_.size(), [&](std::size_t c, std::size_t b, std::size_t e) {
+    LaneRng rng(options_.seed, step, 0x4EAD1000ull + c);
+    alignas(32) float noise[kBlock];
+    for (std::size_t blk = b; blk < e; blk += kBlock) {
+      const std::size_t len = std::min(kBlock, e - blk);
+      rng.fill_normal(noise, LaneRng::round_up(len, 16));
+      MapF(set_.yaw.data() + blk, idx(len)) += s_e * CMapU(noise, idx(len));
+    }
+  });
+}
+
+ParticleFilter::HeadingEstimate ParticleFilter::heading_estimate() {
+  flush_heading_walk();
+  HeadingEstimate h;
+  if (!initialized_ || !set_.heading) return h;
+  const std::size_t n = set_.size();
+  std::vector<std::array<double, 3>> part(particle_chunks(n), std::array<double, 3>{});
+  const bool weighted = !uniform_;
+  for_each_particle_chunk(n, [&](std::size_t c, std::size_t b, std::size_t e) {
+    alignas(32) float wbuf[kBlock];
+    std::array<double, 3> a{};
+    for (std::size_t blk = b; blk < e; blk += kBlock) {
+      const std::size_t len = std::min(kBlock, e - blk);
+      const CMapF E(set_.yaw.data() + blk, idx(len));
+      if (weighted) {
+        weights_into(blk, len, wbuf);
+        const CMapF W(wbuf, idx(len));
+        a[0] += W.sum();
+        a[1] += (W * E).sum();
+        a[2] += (W * E.square()).sum();
+      } else {
+        a[0] += static_cast<double>(len);
+        a[1] += E.sum();
+        a[2] += E.square().sum();
+      }
+    }
+    part[c] = a;
+  });
+  std::array<double, 3> a{};
+  for (const auto& p : part)
+    for (int j = 0; j < 3; ++j) a[j] += p[j];
+  if (!(a[0] > 0.0)) return h;
+  // Offsets stay within a fraction of a radian (the feedback empties them): a linear
+  // mean is the circular one.
+  h.offset_rad = a[1] / a[0];
+  h.sigma_rad = std::sqrt(std::max(0.0, a[2] / a[0] - h.offset_rad * h.offset_rad));
+  h.valid = std::isfinite(h.offset_rad) && std::isfinite(h.sigma_rad);
+  return h;
+}
+
+void ParticleFilter::shift_heading(double delta_rad) {
+  if (!set_.heading || !std::isfinite(delta_rad)) return;
+  flush_heading_walk();
+  const float d = static_cast<float>(delta_rad);
+  for_each_particle_chunk(set_.size(), [&](std::size_t, std::size_t b, std::size_t e) {
+    MapF(set_.yaw.data() + b, idx(e - b)) -= d;
   });
 }
 
@@ -168,6 +259,8 @@ void ParticleFilter::predict_gait(const MotionInput& u) {
   const float k_lo = static_cast<float>(options_.gait.min_scale), k_hi = static_cast<float>(options_.gait.max_scale);
   const float fspeed = static_cast<float>(speed), half_dt = static_cast<float>(0.5 * dt);
   const float ac = s_along * c, as = s_along * s, cc = s_cross * c, cs = s_cross * s;
+  walk_heading(u);
+  const bool heading = set_.heading;
   const std::uint64_t step = ++step_;
   moments_.assign(particle_chunks(n), Moments{});
   const float rx = ref_x_, ry = ref_y_;
@@ -188,8 +281,10 @@ void ParticleFilter::predict_gait(const MotionInput& u) {
       // The calibration states walk slowly (so the fixes can follow a changing gait).
       K = (K + s_k * n1).max(k_lo).min(k_hi);
       D += s_d * n2;
-      // Velocity = k * gait speed along heading + d; trapezoidal position.
-      const BlockF cd = D.cos(), sd = D.sin();
+      // Velocity = k * gait speed along AHRS heading + e (the particle's yaw offset) + d
+      // (its gait heading offset); trapezoidal position.
+      const BlockF ang = heading ? BlockF(D + CMapF(set_.yaw.data() + blk, idx(len))) : BlockF(D);
+      const BlockF cd = ang.cos(), sd = ang.sin();
       const BlockF sp = fspeed * K;
       const BlockF vx = sp * (c * cd - s * sd);
       const BlockF vy = sp * (s * cd + c * sd);
@@ -252,6 +347,10 @@ void ParticleFilter::predict(const MotionInput& u) {
   const float half_dt = static_cast<float>(0.5 * dt);
   const float vmax = static_cast<float>(options_.max_speed);
   const bool clamp = vmax > 0.0f && std::isfinite(vmax);
+  walk_heading(u);
+  // The world acceleration turns with the particle's yaw offset (first order: offsets are
+  // small, and an acceleration error of e^2 / 2 is below the accelerometer's noise).
+  const bool rotate = set_.heading && (ax_dt != 0.0f || ay_dt != 0.0f);
   const std::uint64_t step = ++step_;
   const std::size_t n = set_.size();
   moments_.assign(particle_chunks(n), Moments{});
@@ -269,8 +368,15 @@ void ParticleFilter::predict(const MotionInput& u) {
       MapF VX(set_.vx.data() + blk, idx(len)), VY(set_.vy.data() + blk, idx(len));
       // Velocity driven by the measured acceleration plus white noise, decaying towards
       // zero (SEEDS.md B.2, planar inertial integration); trapezoidal position update.
-      BlockF vx = (VX + ax_dt) * decay + sigma_v * CMapU(noise, idx(len));
-      BlockF vy = (VY + ay_dt) * decay + sigma_v * CMapU(noise + len, idx(len));
+      BlockF vx, vy;
+      if (rotate) {
+        const CMapF E(set_.yaw.data() + blk, idx(len));
+        vx = (VX + ax_dt - ay_dt * E) * decay + sigma_v * CMapU(noise, idx(len));
+        vy = (VY + ay_dt + ax_dt * E) * decay + sigma_v * CMapU(noise + len, idx(len));
+      } else {
+        vx = (VX + ax_dt) * decay + sigma_v * CMapU(noise, idx(len));
+        vy = (VY + ay_dt) * decay + sigma_v * CMapU(noise + len, idx(len));
+      }
       if (clamp) {
         // k = min(1, vmax / |v|): no select(), which Eigen 3.4 leaves scalar.
         const BlockF k = (vmax * (vx.square() + vy.square()).max(1e-30f).rsqrt()).min(1.0f);
@@ -503,6 +609,7 @@ void ParticleFilter::inject_random(std::uint64_t step) {
         set_.ks[i] = 1.0f;  // the uncalibrated gait
         set_.dpsi[i] = 0.0f;
       }
+      if (set_.heading) set_.yaw[i] = 0.0f;  // the AHRS's yaw
       ++count[c];
     }
   });
@@ -631,8 +738,9 @@ void ParticleFilter::systematic_ancestors(std::size_t m, std::uint64_t step) {
 void ParticleFilter::gather(std::uint64_t step) {
   const std::size_t m = ancestors_.size();
   scratch_.gait = set_.gait;
+  scratch_.heading = set_.heading;
   scratch_.resize(m);
-  const bool gait = set_.gait;
+  const bool gait = set_.gait, heading = set_.heading;
   const float jitter = static_cast<float>(options_.roughening_m);
   moments_.assign(particle_chunks(m), Moments{});
   const float rx = ref_x_, ry = ref_y_;
@@ -663,6 +771,10 @@ void ParticleFilter::gather(std::uint64_t step) {
           sd[k] = set_.dpsi[i];
         }
       }
+      if (heading) {
+        float* se = scratch_.yaw.data() + blk;
+        for (std::size_t k = 0; k < len; ++k) se[k] = set_.yaw[anc[blk + k]];
+      }
       MapF X(sx, idx(len)), Y(sy, idx(len));
       if (jitter > 0.0f) {
         // Roughening (Gordon et al. 1993) against copies collapsing onto one point; a
@@ -681,6 +793,7 @@ void ParticleFilter::gather(std::uint64_t step) {
   std::swap(set_.vy, scratch_.vy);
   std::swap(set_.ks, scratch_.ks);
   std::swap(set_.dpsi, scratch_.dpsi);
+  std::swap(set_.yaw, scratch_.yaw);
   reset_weights_uniform();
   if (injection_probability() > 0.0) {
     inject_random(step);  // rare: recompute the moments rather than fold it in above

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "core/filter/genetic_resampler.hpp"
+#include "core/filter/heading_noise.hpp"
 #include "core/filter/kld_sampling.hpp"
 #include "core/filter/motion_model.hpp"
 #include "core/filter/particle_injection.hpp"
@@ -53,6 +54,8 @@ struct ParticleFilterOptions {
   // Pedestrian motion model (MotionInput::has_gait): per-particle step-length scale and
   // heading offset, created at the first gait input.
   GaitNoise gait;
+  // Per-particle yaw offset of the attitude filter (HeadingNoise::enabled).
+  HeadingNoise heading;
   GeneticOptions genetic;      // policy == Genetic
   KldOptions kld;              // adaptive particle count (Copy policy)
   InjectionOptions injection;  // random particles when the likelihood drops (needs a region)
@@ -73,8 +76,9 @@ class ParticleFilter final : public PlanarFilter {
 
   // Multiplies every particle's weight by exp(log_likelihood(x, y)) (world coordinates,
   // doubles) — the generic measurement update (tight coupling passes a reprojection
-  // likelihood here) — and normalises. Returns false and leaves the weights alone when
-  // every particle's likelihood underflows (-inf or NaN).
+  // likelihood here) — and normalises. A likelihood callable as (x, y, yaw_offset) gets
+  // the particle's yaw offset too (0 without the heading state). Returns false and leaves
+  // the weights alone when every particle's likelihood underflows (-inf or NaN).
   template <typename LogLikelihood>
   bool weigh(const LogLikelihood& log_likelihood);
 
@@ -96,6 +100,19 @@ class ParticleFilter final : public PlanarFilter {
     bool valid = false;
   };
   GaitEstimate gait_estimate() const;
+  // Yaw offset of the attitude filter (heading state): weighted mean and standard
+  // deviation over the particles (rad); valid = false without the heading state.
+  struct HeadingEstimate {
+    double offset_rad = 0.0, sigma_rad = 0.0;
+    bool valid = false;
+  };
+  // Applies the heading walk the predictions since the last call owe (see walk_heading).
+  HeadingEstimate heading_estimate();
+  // Subtracts `delta` from every particle's yaw offset: the fusion moved delta into the
+  // attitude filter's yaw (error-state feedback), so the absolute heading is unchanged.
+  void shift_heading(double delta_rad);
+  bool has_heading() const { return set_.heading; }
+  double yaw_offset(std::size_t i) const { return set_.heading ? set_.yaw[i] : 0.0; }
   // Raw state: positions relative to origin().
   const ParticleSet& particles() const { return set_; }
   const Eigen::Vector2d& origin() const { return origin_; }
@@ -138,6 +155,13 @@ class ParticleFilter final : public PlanarFilter {
   void reset_weights_uniform();
   void predict_gait(const MotionInput& u);
   void draw_gait_prior(std::uint64_t step);  // k ~ N(1, sigma0), d ~ N(0, sigma0)
+  void draw_heading_prior(std::uint64_t step);  // e ~ N(0, sigma0)
+  // Random walk of the yaw offsets (HeadingNoise). A random walk is additive, so the
+  // predictions only add up its variance and the particles take it in one draw before the
+  // next weighing or estimate (flush_heading_walk): a 200 Hz IMU then costs no extra pass.
+  void walk_heading(const MotionInput& u);
+  void flush_heading_walk();
+  double pending_yaw_var_ = 0.0;
 
   ParticleFilterOptions options_;
   ParticleSet set_;

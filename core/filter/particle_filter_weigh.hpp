@@ -3,6 +3,7 @@
 // likelihood inlines into the per-particle loop and simple ones vectorise).
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 namespace luxloc {
 
@@ -47,9 +48,18 @@ bool ParticleFilter::weigh(const LogLikelihood& log_likelihood) {
   const double ox = origin_.x(), oy = origin_.y();
   const float* x = set_.x.data();
   const float* y = set_.y.data();
-  return weigh_particles([&](std::size_t i) {
-    return log_likelihood(ox + static_cast<double>(x[i]), oy + static_cast<double>(y[i]));
-  });
+  if constexpr (std::is_invocable_v<const LogLikelihood&, double, double, double>) {
+    flush_heading_walk();  // the offsets this likelihood reads must be current
+    const float* e = set_.heading ? set_.yaw.data() : nullptr;
+    return weigh_particles([&](std::size_t i) {
+      return log_likelihood(ox + static_cast<double>(x[i]), oy + static_cast<double>(y[i]),
+                            e ? static_cast<double>(e[i]) : 0.0);
+    });
+  } else {
+    return weigh_particles([&](std::size_t i) {
+      return log_likelihood(ox + static_cast<double>(x[i]), oy + static_cast<double>(y[i]));
+    });
+  }
 }
 
 }  // namespace luxloc

@@ -23,6 +23,10 @@ struct ParticleSet {
   // for them in the resampling gather).
   FloatVector ks, dpsi;
   bool gait = false;
+  // Yaw offset of the attitude filter (rad; core/filter/heading_noise.hpp): true device
+  // yaw = AHRS yaw + yaw[i]. Empty unless `heading`.
+  FloatVector yaw;
+  bool heading = false;
   std::size_t size() const { return x.size(); }
   void resize(std::size_t n) {
     x.resize(n);
@@ -31,6 +35,7 @@ struct ParticleSet {
     vy.resize(n);
     ks.resize(gait ? n : 0);
     dpsi.resize(gait ? n : 0);
+    yaw.resize(heading ? n : 0);
   }
 };
 

@@ -38,6 +38,9 @@ struct MotionInput {
   bool has_acc = false;
   bool has_gait = false;
   GaitInput gait;
+  // Time since the heading was last fixed by an observation (s, at the start of this
+  // interval): the yaw-offset state's drift grows with it (HeadingNoise::bias_sigma_rps).
+  double heading_drift_s = 0.0;
 };
 
 // An absolute 2-D position measurement (a VLC fix, a UWB position, fixes.csv).

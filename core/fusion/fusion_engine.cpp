@@ -40,12 +40,23 @@ EkfOptions ekf_options(const ParticleFilterOptions& pf) {
 FusionEngine::FusionEngine(const FusionOptions& options, const std::optional<LedMap>& map,
                            const std::optional<CameraModel>& camera, const SessionConfig& session,
                            const UwbOptions& uwb, const VoOptions& vo)
-    : options_(options), ahrs_(options.ahrs), motion_(effective_motion(options)), vo_options_(vo) {
+    : options_(options),
+      ahrs_(options.ahrs),
+      heading_feedback_(options.heading_feedback),
+      motion_(effective_motion(options)),
+      vo_options_(vo) {
   device_height_m_ = std::isfinite(options.device_height_m) ? options.device_height_m
                      : std::isfinite(session.device_height_m) ? session.device_height_m
                                                               : 1.0;
-  filter_ = make_planar_filter(FilterSettings{options.filter, options.pf, ekf_options(options.pf)});
+  // Heading state (issue 11): per particle when the particle filter weighs the camera
+  // itself (tight coupling); otherwise (EKF, loose coupling) the scalar HeadingObserver
+  // corrected by the camera's direct yaw. pf.heading.enabled = false: neither (the AHRS
+  // yaw unchanged, as before).
+  ParticleFilterOptions pf_options = options.pf;
+  pf_options.heading.enabled = options.pf.heading.enabled && options.tight_coupling;
+  filter_ = make_planar_filter(FilterSettings{options.filter, pf_options, ekf_options(options.pf)});
   pf_ = dynamic_cast<ParticleFilter*>(filter_.get());
+  if (options.pf.heading.enabled && !(pf_ && pf_->options().heading.enabled)) heading_observer_.emplace(options.pf.heading);
   uwb_ = std::make_unique<UwbFrontend>(uwb, UwbAnchorTable(session.anchors), device_height_m_);
   if (vo.enabled && camera)
     vo_ = std::make_unique<FloorOdometry>(*camera, device_height_m_ + camera->p_CinB.z(), vo.odometry);
@@ -106,6 +117,49 @@ void FusionEngine::finish(std::vector<PoseEstimate>& out) {
     stats_.gait_scale = ekf->full_state()(4);
     stats_.gait_heading_offset_rad = ekf->full_state()(5);
   }
+  stats_.heading_transfers = heading_feedback_.transfers();
+  stats_.heading_learnt_rate_rps = heading_feedback_.learnt_rate_rps();
+  if (filter_->initialized()) stats_.sigma_yaw_rad = heading_state().sigma_rad;
+}
+
+FusionEngine::HeadingState FusionEngine::heading_state() {
+  HeadingState h;
+  if (pf_ && pf_->has_heading()) {
+    if (const ParticleFilter::HeadingEstimate e = pf_->heading_estimate(); e.valid) {
+      h.offset_rad = e.offset_rad;
+      h.sigma_rad = e.sigma_rad;
+    }
+  } else if (heading_observer_) {
+    h.offset_rad = heading_observer_->offset_rad();
+    h.sigma_rad = heading_observer_->sigma_rad();
+  }
+  return h;
+}
+
+void FusionEngine::feed_back_heading(TimeNs t) {
+  const HeadingState h = heading_state();
+  const std::optional<HeadingFeedback::Transfer> tr = heading_feedback_.update(t, h.offset_rad, h.sigma_rad);
+  if (!tr) return;
+  ahrs_.correct_heading(tr->dyaw_rad, tr->drate_rps);
+  if (pf_ && pf_->has_heading())
+    pf_->shift_heading(tr->dyaw_rad);
+  else if (heading_observer_)
+    heading_observer_->shift(tr->dyaw_rad);
+}
+
+double FusionEngine::heading_drift_s(TimeNs t) const {
+  // Before the first transfer the clock runs from the filter's start: the yaw-offset prior
+  // (HeadingNoise::sigma0_rad) is what is known of the heading then.
+  double s = heading_feedback_.since_fix_s(t);
+  if (!std::isfinite(s) && t_initialized_) s = std::max(0.0, ns_to_seconds(t - *t_initialized_));
+  // A magnetometer in use bounds the AHRS's yaw error (FusionOptions::mag_bounded_drift_s).
+  if (ahrs_.since_mag_correction_s() < 1.0) s = std::min(s, options_.mag_bounded_drift_s);
+  return s;
+}
+
+Eigen::Matrix3d FusionEngine::fused_R_BtoW() {
+  const HeadingState h = heading_state();
+  return Eigen::AngleAxisd(h.offset_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix() * ahrs_.R_BtoW();
 }
 
 bool FusionEngine::absolute_wanted(TimeNs t) {
@@ -122,7 +176,10 @@ void FusionEngine::predict_to(TimeNs t) {
     return;
   }
   if (t <= t_filter_) return;
-  filter_->predict(motion_.input(t_filter_, t));
+  MotionInput u = motion_.input(t_filter_, t);
+  u.heading_drift_s = heading_drift_s(t_filter_);
+  filter_->predict(u);
+  if (heading_observer_) heading_observer_->predict(u.dt, u.heading_drift_s);
   t_filter_ = t;
 }
 
@@ -145,6 +202,7 @@ void FusionEngine::on_imu(const ImuSample& raw, std::vector<PoseEstimate>& out) 
       compensated.acc_inB -= (s.gyro_inB - ahrs_.gyro_bias()).cross(v_inB);
     }
   }
+  ahrs_.hold_magnetometer(heading_feedback_.since_fix_s(s.t) < heading_feedback_.options().mag_hold_s);
   ahrs_.update(compensated);
   if (ahrs_.initialized()) motion_.update(s, ahrs_.R_BtoW());
   have_imu_ = true;
@@ -186,27 +244,58 @@ void FusionEngine::apply_frame(const DecodedFrame& f) {
     ++stats_.vlc_fixes;
     // Gate: the mean particle's reprojection error, in metres at the ceiling distance,
     // against the filter's spread. Persistent disagreement means the filter lost track.
+    // The yaw offset's spread moves the LEDs too: by sigma_yaw times their distance.
     const PlanarEstimate e = pf_->estimate();
-    const double rms_m = lik.rms_px(e.p.x(), e.p.y()) * vlc_ceiling_distance() / vlc_focal_px();
-    const double allowed = options_.tight_gate_m + 3.0 * std::sqrt(e.cov_p.trace());
+    const HeadingState h = heading_state();
+    const double rms_m = lik.rms_px(e.p.x(), e.p.y(), h.offset_rad) * vlc_ceiling_distance() / vlc_focal_px();
+    const double yaw_spread = std::isfinite(h.sigma_rad) ? h.sigma_rad * vlc_ceiling_distance() : 0.0;
+    const double allowed = options_.tight_gate_m + 3.0 * std::sqrt(e.cov_p.trace() + yaw_spread * yaw_spread);
     if (rms_m <= allowed && pf_->weigh(lik) && pf_->normalize_and_resample()) {
       ++stats_.fixes_accepted;
       consecutive_gated_ = 0;
       t_last_fix_ = f.t_obs;
+      // Only a frame that sees the heading directly (two or more LEDs) may move it into
+      // the AHRS, and only when the particles' offset agrees with that frame's own yaw
+      // (VlcFrontend::yaw_offset, 3 sigma): one LED ties yaw to position, and a cloud that
+      // collapsed onto a wrong yaw-position pair would teach the AHRS a wrong yaw and bias.
+      if (lik.size() >= 2) {
+        if (const std::optional<YawMeasurement> y = vlc_->yaw_offset(f, R_BtoW)) {
+          const HeadingState now = heading_state();
+          const double d = std::remainder(now.offset_rad - y->offset_rad, 2.0 * 3.14159265358979323846);
+          if (std::abs(d) <= 3.0 * std::hypot(y->sigma_rad, std::isfinite(now.sigma_rad) ? now.sigma_rad : 0.0)) {
+            ++stats_.camera_yaw_used;
+            feed_back_heading(f.t_obs);
+          } else {
+            ++stats_.camera_yaw_rejected;
+          }
+        }
+      }
       return;
     }
     ++stats_.fixes_gated;
     if (++consecutive_gated_ < options_.pf.max_consecutive_rejections) return;
     // Lost: fall through to a loose fix, which re-initialises the filter.
     consecutive_gated_ = 0;
-    if (std::optional<PositionMeasurement> m = vlc_->fix(f, R_BtoW)) {
+    if (std::optional<PositionMeasurement> m = vlc_->fix(f, fused_R_BtoW())) {
       pf_->initialize(m->z, m->R * 4.0);
       ++stats_.reinitializations;
       t_last_fix_ = f.t_obs;
     }
     return;
   }
-  std::optional<PositionMeasurement> m = vlc_->fix(f, R_BtoW);
+  // EKF / loose coupling: the camera's direct yaw (two or more LEDs) corrects the heading
+  // observer, then the fix is made with the fused yaw.
+  if (heading_observer_) {
+    if (const std::optional<YawMeasurement> y = vlc_->yaw_offset(f, R_BtoW)) {
+      if (heading_observer_->correct(*y)) {
+        ++stats_.camera_yaw_used;
+        feed_back_heading(f.t_obs);
+      } else {
+        ++stats_.camera_yaw_rejected;
+      }
+    }
+  }
+  std::optional<PositionMeasurement> m = vlc_->fix(f, fused_R_BtoW());
   if (!m) return;
   ++stats_.vlc_fixes;
   apply_position(*m);
@@ -349,7 +438,10 @@ void FusionEngine::emit(TimeNs t, std::vector<PoseEstimate>& out, bool force) {
   p.t = t;
   p.p_BinW = {e.p.x(), e.p.y(), device_height_m_};
   if (ahrs_.initialized()) {
-    p.yaw = ahrs_.yaw();
+    // The fused yaw: the AHRS's plus the filter's offset (issue 11); its sigma.
+    const HeadingState h = heading_state();
+    p.yaw = std::remainder(ahrs_.yaw() + h.offset_rad, 2.0 * 3.14159265358979323846);
+    p.sigma_yaw = h.sigma_rad;
     p.roll = ahrs_.roll();
     p.pitch = ahrs_.pitch();
   }

@@ -63,6 +63,18 @@ class FusionEngine final : public FusionStage {
   void apply_frame(const DecodedFrame& f);
   void apply_position(const PositionMeasurement& m);
   void predict_to(TimeNs t);
+  // The filter's yaw offset of the AHRS now (PF: particle mean; EKF path: the observer).
+  struct HeadingState {
+    double offset_rad = 0.0;
+    double sigma_rad = std::numeric_limits<double>::quiet_NaN();
+  };
+  HeadingState heading_state();
+  // Moves a well-determined offset into the AHRS (HeadingFeedback) at time t.
+  void feed_back_heading(TimeNs t);
+  // Seconds since the heading was last fixed (drift clock of the yaw offset).
+  double heading_drift_s(TimeNs t) const;
+  // R_BtoW with the fused yaw: Rz(offset) R_ahrs.
+  Eigen::Matrix3d fused_R_BtoW();
   // False for an absolute sample (frame, fix) that options_.absolute_for_s excludes.
   bool absolute_wanted(TimeNs t);
   void emit(TimeNs t, std::vector<PoseEstimate>& out, bool force);
@@ -70,6 +82,9 @@ class FusionEngine final : public FusionStage {
   FusionOptions options_;
   FusionStats stats_;
   MahonyFilter ahrs_;
+  HeadingFeedback heading_feedback_;
+  // The EKF path's (and a filter without the heading state's) yaw offset.
+  std::optional<HeadingObserver> heading_observer_;
   std::unique_ptr<PlanarFilter> filter_;
   ParticleFilter* pf_ = nullptr;  // filter_ when it is a particle filter (tight coupling)
   double ceiling_distance_m_ = 2.0;

@@ -3,6 +3,7 @@
 #include <string>
 
 #include "core/filter/particle_filter.hpp"
+#include "core/fusion/heading_feedback.hpp"
 #include "core/fusion/motion_source.hpp"
 #include "core/imu/imu_calibration.hpp"
 #include "core/imu/mahony_filter.hpp"
@@ -42,6 +43,13 @@ struct FusionOptions {
   double tight_gate_m = 0.5;
   // Remove omega x v from the accelerometer before it serves as the gravity reference.
   bool compensate_centripetal = true;
+  // Heading in the fusion (issue 11): the filters' yaw offset (pf.heading; the EKF path's
+  // HeadingObserver takes the same noise) and its transfer into the AHRS.
+  HeadingFeedbackOptions heading_feedback;
+  // While the AHRS's magnetometer corrects the heading, its yaw cannot drift further than
+  // the field's own error (2-3 deg): the drift clock of the yaw offset stops at this many
+  // seconds (0.2 deg/s x 10 s = 2 deg, HeadingNoise::bias_sigma_rps).
+  double mag_bounded_drift_s = 10.0;
   // Pixel noise of a decoded LED centre (1 sigma) for the fix covariance.
   double vlc_pixel_sigma = 1.0;
   // Attitude uncertainty (1 sigma, rad) folded into the VLC fix covariance.

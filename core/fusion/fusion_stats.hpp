@@ -28,6 +28,13 @@ struct FusionStats {
   std::uint64_t steps = 0;
   double gait_scale = std::numeric_limits<double>::quiet_NaN();
   double gait_heading_offset_rad = std::numeric_limits<double>::quiet_NaN();
+  // Heading in the fusion (core/fusion/heading_feedback.hpp): transfers of the filter's yaw
+  // offset into the AHRS, the gyro z rate they taught it (rad/s), the camera yaw
+  // measurements of the EKF path taken / refused, and the final fused-yaw sigma (rad).
+  std::uint64_t heading_transfers = 0;
+  double heading_learnt_rate_rps = 0.0;
+  std::uint64_t camera_yaw_used = 0, camera_yaw_rejected = 0;
+  double sigma_yaw_rad = std::numeric_limits<double>::quiet_NaN();
 };
 
 }  // namespace luxloc

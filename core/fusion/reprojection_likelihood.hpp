@@ -29,11 +29,15 @@ class ReprojectionLikelihood {
     outlier2_ = outlier_px * outlier_px;
   }
 
-  // log p(observations | body at (x, y, z_B)), up to a constant.
-  double operator()(double x, double y) const {
+  // log p(observations | body at (x, y, z_B), yaw offset e), up to a constant. The true
+  // attitude is Rz(e) R_BtoW (the particle's yaw offset of the AHRS, heading_noise.hpp), so
+  // a world offset reaches the camera as M Rz(-e) (p_L - p_B).
+  double operator()(double x, double y, double e = 0.0) const {
+    const double c = std::cos(e), s = std::sin(e);
     double ll = 0.0;
     for (const ReprojectionTerm& t : terms_) {
-      const Eigen::Vector3d p_LinC = M_ * (t.p_LinW - Eigen::Vector3d(x, y, z_B_)) - offset_;
+      const Eigen::Vector3d d = t.p_LinW - Eigen::Vector3d(x, y, z_B_);
+      const Eigen::Vector3d p_LinC = M_ * Eigen::Vector3d(c * d.x() + s * d.y(), -s * d.x() + c * d.y(), d.z()) - offset_;
       Eigen::Vector2d uv;
       if (!camera_.project(p_LinC, uv)) {
         ll -= 0.5 * outlier2_ * t.inv_var;
@@ -47,13 +51,16 @@ class ReprojectionLikelihood {
     return ll;
   }
 
-  // Mean pixel error at (x, y): for gating.
-  double rms_px(double x, double y) const {
+  // Mean pixel error at (x, y) and yaw offset e: for gating.
+  double rms_px(double x, double y, double e = 0.0) const {
+    const double ce = std::cos(e), se = std::sin(e);
     double s = 0.0;
     int n = 0;
     for (const ReprojectionTerm& t : terms_) {
       Eigen::Vector2d uv;
-      if (!camera_.project(M_ * (t.p_LinW - Eigen::Vector3d(x, y, z_B_)) - offset_, uv)) return 1e9;
+      const Eigen::Vector3d d = t.p_LinW - Eigen::Vector3d(x, y, z_B_);
+      if (!camera_.project(M_ * Eigen::Vector3d(ce * d.x() + se * d.y(), -se * d.x() + ce * d.y(), d.z()) - offset_, uv))
+        return 1e9;
       s += (uv - t.uv).squaredNorm();
       ++n;
     }

@@ -71,6 +71,55 @@ ReprojectionLikelihood VlcFrontend::likelihood(const DecodedFrame& frame, const 
                                 5.0 * std::sqrt(sigma_px2));
 }
 
+std::optional<YawMeasurement> VlcFrontend::yaw_offset(const DecodedFrame& frame, const Eigen::Matrix3d& R_BtoW) const {
+  // Each LED's bearing through R_BtoW, met with its height, gives the horizontal vector
+  // camera -> LED in R_BtoW's world, h_i = p_Li - p_i (p_i: ReprojectionLikelihood::invert).
+  // With the true attitude Rz(e) R_BtoW the map sees Rz(e) h_i, so the LEDs' pattern about
+  // its centroid, a_i = p_Li - mean, is the bearings' pattern b_i turned by e: the least-
+  // squares turn (2-D Procrustes) is e = atan2(sum b_i x a_i, sum b_i . a_i). A tilt error
+  // moves every h_i alike and cancels in b_i.
+  const ReprojectionLikelihood lik = likelihood(frame, R_BtoW);
+  std::vector<Eigen::Vector2d> a, b;
+  std::vector<double> dz;
+  if (!frame.impl) return std::nullopt;
+  const State& s = *state_;
+  for (std::size_t i = 0; i < lik.size(); ++i) {
+    const std::optional<Eigen::Vector2d> p = lik.invert(i);
+    if (!p) continue;
+    const Eigen::Vector3d& L = s.map.leds()[static_cast<std::size_t>(frame.impl->accepted[i].led_index)].p_inW;
+    a.push_back(L.head<2>());
+    b.push_back(L.head<2>() - *p);
+    dz.push_back(std::max(0.3, L.z() - s.device_height_m));
+  }
+  if (a.size() < 2) return std::nullopt;
+  Eigen::Vector2d ca = Eigen::Vector2d::Zero(), cb = Eigen::Vector2d::Zero();
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    ca += a[i];
+    cb += b[i];
+  }
+  ca /= static_cast<double>(a.size());
+  cb /= static_cast<double>(b.size());
+  double cross = 0.0, dot = 0.0, spread2 = 0.0, dz2 = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const Eigen::Vector2d ai = a[i] - ca, bi = b[i] - cb;
+    cross += bi.x() * ai.y() - bi.y() * ai.x();
+    dot += bi.dot(ai);
+    spread2 += ai.squaredNorm();
+    dz2 += dz[i] * dz[i];
+  }
+  // Sigma: each h_i is off by dz sigma_px / f (pixel noise) horizontally; a turn of the
+  // pattern is that over its spread. 0.3 m: a shorter baseline says little.
+  if (spread2 < 0.09 || dot <= 0.0) return std::nullopt;
+  const double f = 0.5 * (s.camera.fx + s.camera.fy);
+  const double sigma_h = std::sqrt(dz2 / static_cast<double>(a.size())) * s.options.vlc_pixel_sigma / f;
+  YawMeasurement m;
+  m.t = frame.t_obs;
+  m.offset_rad = std::atan2(cross, dot);
+  // Floor 0.005 rad (0.3 deg): the map survey (~1 cm over a few metres) and the lens model.
+  m.sigma_rad = std::hypot(sigma_h / std::sqrt(spread2), 0.005);
+  return m;
+}
+
 std::optional<PositionMeasurement> VlcFrontend::fix(const DecodedFrame& frame, const Eigen::Matrix3d& R_BtoW) const {
   // Each LED's bearing, intersected with its height, places the body; the mean of those.
   const ReprojectionLikelihood lik = likelihood(frame, R_BtoW);

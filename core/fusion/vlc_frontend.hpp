@@ -10,6 +10,7 @@
 #include "core/common/samples.hpp"
 #include "core/filter/planar_filter.hpp"
 #include "core/fusion/fusion_options.hpp"
+#include "core/fusion/heading_feedback.hpp"
 #include "core/fusion/reprojection_likelihood.hpp"
 #include "core/vlc/camera_model.hpp"
 #include "core/vlc/led_map.hpp"
@@ -37,6 +38,10 @@ class VlcFrontend {
   // Position of the body from the decoded LEDs, given the attitude; nullopt when the
   // frame cannot fix a position (no LED, degenerate geometry).
   std::optional<PositionMeasurement> fix(const DecodedFrame& frame, const Eigen::Matrix3d& R_BtoW) const;
+  // The yaw offset of R_BtoW (true yaw - its yaw) from the camera geometry of two or more
+  // LEDs: the horizontal pattern of their bearings against the map's; nullopt with fewer
+  // than two LEDs or a baseline too short to tell.
+  std::optional<YawMeasurement> yaw_offset(const DecodedFrame& frame, const Eigen::Matrix3d& R_BtoW) const;
   // Tight coupling: the per-particle reprojection likelihood of the frame's LEDs.
   ReprojectionLikelihood likelihood(const DecodedFrame& frame, const Eigen::Matrix3d& R_BtoW) const;
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace luxloc {
 
@@ -39,6 +40,7 @@ void MahonyFilter::align(const Eigen::Vector3d& acc_inB, const Eigen::Vector3d* 
 Eigen::Vector3d MahonyFilter::magnetometer_error(const Eigen::Matrix3d& R, const ImuSample& s, double dt,
                                                  bool converging) {
   if (!s.has_mag || !options_.use_magnetometer || s.mag_inB.norm() < 1e-6) return Eigen::Vector3d::Zero();
+  if (mag_held_ && !converging) return Eigen::Vector3d::Zero();
   const Eigen::Vector3d m = s.mag_inB.normalized();
   const Eigen::Vector3d up_inB = R.transpose().col(2);
   if (!mag_ref_valid_) set_mag_reference(s.mag_inB, up_inB);  // aligned without a magnetometer
@@ -78,6 +80,8 @@ Eigen::Vector3d MahonyFilter::magnetometer_error(const Eigen::Matrix3d& R, const
   }
   // The field corrects the heading with time constant 1 / kp_heading: so shrinks the bound.
   heading_drift_rad_ *= std::max(0.0, 1.0 - options_.kp_heading * dt);
+  t_mag_used_ = s.t;
+  mag_used_ = true;
   if (h_horizontal < 0.1) return Eigen::Vector3d::Zero();  // field nearly vertical: no heading
   // (h_xy / |h_xy|) x north, about world up: the sine of the heading error; applied about
   // the body's up axis.
@@ -139,6 +143,22 @@ void MahonyFilter::update(const ImuSample& s) {
   const double angle = w.norm() * dt;
   if (angle > 1e-12) q_ = q_ * Eigen::Quaterniond(Eigen::AngleAxisd(angle, w.normalized()));
   q_.normalize();
+}
+
+void MahonyFilter::correct_heading(double dyaw_rad, double drate_rps) {
+  if (!initialized_ || !std::isfinite(dyaw_rad) || !std::isfinite(drate_rps)) return;
+  // A turn about the world vertical, applied on the world side: R' = Rz(dyaw) R.
+  q_ = Eigen::Quaterniond(Eigen::AngleAxisd(dyaw_rad, Eigen::Vector3d::UnitZ())) * q_;
+  q_.normalize();
+  // The integrated rate is gyro - bias; to add drate about the world vertical, take it off
+  // the bias along the vertical seen in the body.
+  bias_ -= q_.toRotationMatrix().transpose().col(2) * drate_rps;
+  // The heading was just fixed from outside: the gyro's drift since starts from here.
+  heading_drift_rad_ = 0.0;
+}
+
+double MahonyFilter::since_mag_correction_s() const {
+  return mag_used_ ? ns_to_seconds(t_ - t_mag_used_) : std::numeric_limits<double>::infinity();
 }
 
 double MahonyFilter::yaw() const {

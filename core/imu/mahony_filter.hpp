@@ -111,6 +111,21 @@ class MahonyFilter {
   // not advance are ignored (counted in rejected_samples()).
   void update(const ImuSample& s);
 
+  // Error-state feedback from the fusion (issue 11, core/fusion/heading_feedback.hpp): the
+  // fusion's heading says this filter's yaw is off by dyaw (true = yaw() + dyaw) and that
+  // it integrates a rate about the world vertical that is short by drate (rad/s). Turns the
+  // attitude about the world vertical (roll and pitch are unchanged) and moves the gyro
+  // bias along the body's view of the vertical. Non-finite values are ignored.
+  void correct_heading(double dyaw_rad, double drate_rps);
+  // While on, the magnetometer does not correct the heading (the fusion holds a better
+  // one: the camera's; two heading references with integrators would wind up against each
+  // other wherever the field is off by a degree). Its samples are then neither used nor
+  // counted as rejected.
+  void hold_magnetometer(bool on) { mag_held_ = on; }
+  bool magnetometer_held() const { return mag_held_; }
+  // Seconds since the magnetometer last corrected the heading (infinity: never).
+  double since_mag_correction_s() const;
+
   bool initialized() const { return initialized_; }
   const Eigen::Quaterniond& q_BtoW() const { return q_; }
   Eigen::Matrix3d R_BtoW() const { return q_.toRotationMatrix(); }
@@ -158,6 +173,9 @@ class MahonyFilter {
   double mag_disturbed_s_ = -1.0;  // moving time the field has been disturbed (< 0: it is not)
   bool mag_recovering_ = false;     // adopted a lasting field: heading gate off until it agrees
   double heading_drift_rad_ = 0.0;  // bound on the gyro's heading error since the field last corrected it
+  TimeNs t_mag_used_ = 0;
+  bool mag_used_ = false;
+  bool mag_held_ = false;  // the field has corrected the heading at least once
 };
 
 }  // namespace luxloc

@@ -35,6 +35,8 @@ std::string pose_csv_row(const PoseEstimate& p) {
   s += std::to_string(p.leds);
   s += ',';
   s += mode;
+  s += ',';
+  s += format_fixed(p.sigma_yaw, 5);
   s += '\n';
   return s;
 }

@@ -140,3 +140,33 @@ TEST_CASE("eval: JSON has no NaN, bad truth order is refused", "[io]") {
   CHECK(percentile({}, 0.5) != percentile({}, 0.5));  // NaN for no data
   CHECK(percentile({3.0}, 0.95) == 3.0);
 }
+
+TEST_CASE("eval: sigma consistency counts the poses inside their own 95 % region, yaw percentiles", "[io]") {
+  const auto truth = line_truth(10.0);
+  std::vector<PoseRow> poses;
+  for (int i = 0; i < 100; ++i) {
+    const double t = 0.05 + 0.1 * i;
+    // 0.1 m off along y; the first 60 claim sigma 0.05 (2 sigma: inside the 2.45-sigma
+    // circle), the rest 0.02 (5 sigma: outside). Yaw 1 deg off, sigma_yaw 1 deg (inside
+    // 1.96 sigma) for the first half, 0.25 deg (outside) for the rest.
+    PoseRow p = pose(t, t, 2.1, std::numbers::pi / 180.0);
+    p.sigma_x = p.sigma_y = i < 60 ? 0.05 : 0.02;
+    p.sigma_yaw = (i < 50 ? 1.0 : 0.25) * std::numbers::pi / 180.0;
+    poses.push_back(p);
+  }
+  const EvalResult r = evaluate(truth, poses);
+  CHECK(r.n_sigma == 100);
+  CHECK(r.consistency == Approx(0.60));
+  CHECK(r.mean_sigma_m == Approx(0.6 * 0.05 + 0.4 * 0.02));
+  CHECK(r.n_sigma_yaw == 100);
+  CHECK(r.yaw_consistency == Approx(0.50));
+  CHECK(r.yaw_p95_rad == Approx(std::numbers::pi / 180.0));
+  CHECK(r.yaw_max_rad == Approx(std::numbers::pi / 180.0));
+  CHECK(format_eval_summary(r).find("within 95 % 60.0 %") != std::string::npos);
+  CHECK(format_eval_json(r).find("\"consistency\":0.600000") != std::string::npos);
+  // Without sigma columns: no consistency, and the JSON leaves it out.
+  const EvalResult plain = evaluate(truth, {pose(1.0, 1.0, 2.0)});
+  CHECK(plain.n_sigma == 0);
+  CHECK(std::isnan(plain.consistency));
+  CHECK(format_eval_json(plain).find("consistency") == std::string::npos);
+}
