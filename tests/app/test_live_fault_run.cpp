@@ -20,7 +20,13 @@ std::vector<std::string> csv_rows(const std::string& text) {
 }
 
 double field_t(const std::string& row) { return std::stod(row.substr(0, row.find(','))); }
-std::string field_mode(const std::string& row) { return row.substr(row.rfind(',') + 1); }
+// The mode column: the 12th of t,x,y,z,yaw,sigma_x,sigma_y,roll,pitch,n_eff,leds,mode,...
+std::string field_mode(const std::string& row) {
+  std::size_t b = 0;
+  for (int i = 0; i < 11 && b != std::string::npos; ++i) b = row.find(',', b) + 1;
+  const std::size_t e = row.find(',', b);
+  return row.substr(b, e == std::string::npos ? std::string::npos : e - b);
+}
 
 }  // namespace
 
