@@ -12,9 +12,10 @@ namespace luxloc {
 struct PoseEstimate {
   TimeNs t = 0;
   Eigen::Vector3d p_BinW = Eigen::Vector3d::Zero();
-  double yaw = 0.0;    // rad, CCW from east
-  double roll = 0.0;   // rad (from the attitude filter)
-  double pitch = 0.0;  // rad
+  // NaN when unknown (no IMU: the attitude filter never aligned), never a made-up 0.
+  double yaw = std::numeric_limits<double>::quiet_NaN();    // rad, CCW from east
+  double roll = std::numeric_limits<double>::quiet_NaN();   // rad (from the attitude filter)
+  double pitch = std::numeric_limits<double>::quiet_NaN();  // rad
   double sigma_x = std::numeric_limits<double>::quiet_NaN();
   double sigma_y = std::numeric_limits<double>::quiet_NaN();
   double sigma_yaw = std::numeric_limits<double>::quiet_NaN();  // rad, 1 sigma of the fused yaw

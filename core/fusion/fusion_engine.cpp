@@ -106,7 +106,8 @@ void FusionEngine::finish(std::vector<PoseEstimate>& out) {
   }
   // The last IMU time, unless that pose is out already (no two poses share a time).
   if (filter_->initialized() && have_imu_ && (!emitted_ || t_imu_ > t_last_emit_)) emit(t_imu_, out, true);
-  stats_.motion = to_string(motion_.model());
+  // Without a single IMU sample every prediction was constant velocity, whatever --motion.
+  stats_.motion = have_imu_ ? to_string(motion_.model()) : "cv (no IMU samples)";
   stats_.steps = motion_.steps();
   if (pf_) {
     if (const ParticleFilter::GaitEstimate g = pf_->gait_estimate(); g.valid) {
@@ -308,7 +309,9 @@ void FusionEngine::on_fix(const FixSample& s, std::vector<PoseEstimate>& out) {
   m.z = s.p_inW;
   const double sigma = std::isfinite(s.sigma_m) && s.sigma_m > 0 ? s.sigma_m : options_.default_fix_sigma_m;
   m.R = Eigen::Matrix2d::Identity() * sigma * sigma;
-  if (have_imu_) predict_to(std::max(s.t, t_filter_));
+  // Without an IMU this is the only prediction there is (constant velocity up to the fix);
+  // skipping it left the filter without process noise: it collapsed and gated the fixes.
+  predict_to(std::max(s.t, t_filter_));
   apply_position(m);
   if (!have_imu_) emit(s.t, out, true);
 }

@@ -51,8 +51,10 @@ Eigen::Quaterniond quaternion_from_ypr(double yaw, double pitch, double roll) {
 }
 
 std::string pose_tum_line(const PoseEstimate& p) {
-  if (!p.p_BinW.allFinite() || !std::isfinite(p.yaw)) return {};
-  const Eigen::Quaterniond q = quaternion_from_ypr(p.yaw, or_zero(p.pitch), or_zero(p.roll));
+  if (!p.p_BinW.allFinite()) return {};
+  // An unknown attitude (no IMU) is written as the identity: TUM has no "unknown", and the
+  // trajectory tools evaluate the position alone well.
+  const Eigen::Quaterniond q = quaternion_from_ypr(or_zero(p.yaw), or_zero(p.pitch), or_zero(p.roll));
   std::string s = format_time_s(p.t, 6);
   for (double v : {p.p_BinW.x(), p.p_BinW.y(), p.p_BinW.z()}) {
     s += ' ';
@@ -74,7 +76,7 @@ CsvPoseSink::CsvPoseSink(const std::string& out) : file_(out) {
 void TumPoseSink::write(const PoseEstimate& pose) {
   const std::string line = pose_tum_line(pose);
   if (line.empty()) {
-    drops().add("not finite", "pose at t = " + format_time_s(pose.t) + " s has a non-finite position or yaw");
+    drops().add("not finite", "pose at t = " + format_time_s(pose.t) + " s has a non-finite position");
     return;
   }
   file_.write(line);

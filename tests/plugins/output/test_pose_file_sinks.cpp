@@ -132,9 +132,15 @@ TEST_CASE("TUM pose sink: line format and quaternion of yaw/pitch/roll", "[io]")
     bad.p_BinW.x() = std::nan("");
     sink->write(bad);  // not representable: dropped and counted
     CHECK(sink->drops().count("not finite") == 1);
+    PoseEstimate no_attitude = p;  // no IMU: yaw, roll, pitch unknown
+    no_attitude.t += 1'000'000'000;
+    no_attitude.yaw = no_attitude.roll = no_attitude.pitch = std::nan("");
+    sink->write(no_attitude);  // written, orientation the identity
   }
-  const auto l = lines(read_text(path));
-  REQUIRE(l.size() == 1);
+  const auto all = lines(read_text(path));
+  REQUIRE(all.size() == 2);
+  CHECK(all[1].substr(all[1].size() - 40) == " 0.0000000 0.0000000 0.0000000 1.0000000");
+  const std::vector<std::string> l{all[0]};
   const auto f = split(l[0], ' ');
   REQUIRE(f.size() == 8);
   CHECK(f[0] == "1700000123.456789");
