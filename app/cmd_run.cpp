@@ -47,6 +47,26 @@ std::string dump_config(const CLI::App& sub) {
   return out.str();
 }
 
+// Why a run wrote no pose (issue 12: never a silent 0 poses): the filter starts at the first
+// absolute position or at a known start, and this run had neither.
+std::string no_poses_explanation(const RunOutcome& r) {
+  const FusionStats& f = r.fusion;
+  std::ostringstream s;
+  s << "luxloc: no poses written: the filter never started. It starts at the first absolute position "
+       "(camera frames showing LEDs of the map, fixes.csv, UWB ranges to known anchors) or at a known start "
+       "(--start X,Y[,YAW], or start: {x, y, yaw} in session.yaml). This run had " << f.imu_samples
+    << " IMU samples, " << f.frames << " camera frames (" << f.frames_with_leds << " with LEDs identified), "
+    << r.uwb.samples << " UWB measurements and no usable fix.\n";
+  if (f.frames > 0 && f.frames_with_leds == 0)
+    s << "  the camera frames showed no LED of the map: a missing or wrong ledmap.yaml/camera.yaml "
+         "(--map, --camera), or the lights were off\n";
+  if (r.uwb.samples > 0 && r.uwb.unknown_anchor > 0)
+    s << "  " << r.uwb.unknown_anchor << " UWB measurements came from anchors not in session.yaml's `anchors` list\n";
+  if (f.imu_samples > 0 && f.frames == 0 && r.uwb.samples == 0)
+    s << "  only an IMU: give the start pose (--start X,Y[,YAW]) for dead reckoning\n";
+  return s.str();
+}
+
 }  // namespace
 
 void add_run_command(CLI::App& root, Action& action) {
@@ -70,6 +90,10 @@ void add_run_command(CLI::App& root, Action& action) {
       if (!r.failures.empty()) {
         std::cerr << "luxloc: runtime failure:\n" << r.failures;
         return 1;
+      }
+      if (r.pipeline.poses == 0 && !r.pipeline.stopped) {
+        std::cerr << no_poses_explanation(r);
+        return 2;
       }
       return 0;
     };

@@ -5,6 +5,8 @@
 #include <csignal>
 #include <cstdlib>
 #include <iomanip>
+#include <limits>
+#include <sstream>
 #include <memory>
 #include <ostream>
 #include <tbb/global_control.h>
@@ -160,6 +162,35 @@ void add_run_options(CLI::App* sub, RunConfig& cfg) {
       ->capture_default_str();
   sub->add_flag("--no-accelerometer", [&cfg](std::int64_t) { cfg.fusion.use_accelerometer = false; },
                 "constant-velocity prediction (ignore the accelerometer; = --motion cv)");
+  sub->add_option_function<std::string>(
+         "--start",
+         [&cfg](const std::string& v) {
+           std::vector<double> n;
+           std::stringstream in(v);
+           std::string part;
+           while (std::getline(in, part, ',')) {
+             try {
+               std::size_t used = 0;
+               n.push_back(std::stod(part, &used));
+               if (used != part.size() || !std::isfinite(n.back())) throw std::invalid_argument(part);
+             } catch (const std::exception&) {
+               throw CLI::ValidationError("--start", "'" + v + "': expected X,Y or X,Y,YAW (m, m, rad), got '" + part + "'");
+             }
+           }
+           if (n.size() < 2 || n.size() > 3)
+             throw CLI::ValidationError("--start", "'" + v + "': expected X,Y or X,Y,YAW (m, m, rad)");
+           StartPose p = cfg.fusion.start.value_or(StartPose{});
+           p.p_inW = {n[0], n[1]};
+           p.yaw = n.size() == 3 ? n[2] : std::numeric_limits<double>::quiet_NaN();
+           cfg.fusion.start = p;
+         },
+         "start the filter at this pose (m, m[, rad CCW from east]) without an absolute source: dead reckoning "
+         "from a known start (overrides session.yaml's start:)")
+      ->type_name("X,Y[,YAW]");
+  sub->add_option("--start-sigma", cfg.fusion.start_sigma_m,
+                  "1 sigma per axis of the start (--start or session.yaml's start:), m (default: the start's own, 0.1)")
+      ->check(CLI::PositiveNumber)
+      ->type_name("M");
   sub->add_flag("--no-heading-state", [&cfg](std::int64_t) { cfg.fusion.pf.heading.enabled = false; },
                 "keep the AHRS yaw as the heading (no yaw-offset state in the filter, no feedback into the AHRS; "
                 "for comparisons, docs/MOTION.md \"Heading\")");

@@ -2,6 +2,7 @@
 // Session-wide settings from session.yaml (SPEC.md "Session folder").
 #include <Eigen/Core>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -14,9 +15,18 @@ struct UwbAnchor {
   Eigen::Vector3d p_inW = Eigen::Vector3d::Zero();
 };
 
+// A known start (`run --start X,Y[,YAW]`, session.yaml `start: {x, y, yaw, sigma_m}`): the
+// filter starts there without an absolute source (dead reckoning from a known pose).
+struct StartPose {
+  Eigen::Vector2d p_inW = Eigen::Vector2d::Zero();
+  double yaw = std::numeric_limits<double>::quiet_NaN();  // rad, CCW from east; NaN: the AHRS's
+  double sigma_m = 0.1;                                   // 1 sigma per axis
+};
+
 struct SessionConfig {
   double device_height_m = std::numeric_limits<double>::quiet_NaN();  // NaN: not given
   std::vector<UwbAnchor> anchors;
+  std::optional<StartPose> start;
   SensorLimits limits;  // `sensor_limits`: the sensors' plausible ranges (playback)
   // File names (relative to the session folder) where they differ from SPEC's defaults.
   std::string imu_file = "imu.csv";

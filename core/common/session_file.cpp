@@ -82,6 +82,17 @@ SessionConfig load_session_config(const std::string& path) {
     if (c.device_height_m < 0.0) f.fail("device_height_m", "", "must be a finite height >= 0 (m)");
   }
   c.anchors = read_anchors(f);
+  if (const cv::FileNode n = f["start"]; !n.empty()) {
+    if (!n.isMap()) f.fail("start", "", "must be a map {x: .., y: .., yaw: .., sigma_m: ..}");
+    StartPose s;
+    s.p_inW = {f.number(n["x"], "start.x", ""), f.number(n["y"], "start.y", "")};
+    if (!n["yaw"].empty()) s.yaw = f.number(n["yaw"], "start.yaw", "");
+    if (!n["sigma_m"].empty()) {
+      s.sigma_m = f.number(n["sigma_m"], "start.sigma_m", "");
+      if (!(s.sigma_m > 0.0)) f.fail("start.sigma_m", "", "must be > 0 (m)");
+    }
+    c.start = s;
+  }
   read_sensor_limits(f, c.limits);
   read_file_name(f, "imu", c.imu_file);
   read_file_name(f, "frames", c.frames_file);
@@ -103,6 +114,11 @@ void save_session_config(const SessionConfig& c, const std::string& path) {
   }
   if (!fs.isOpened()) throw InputError(path, 0, "", "cannot write session file");
   if (std::isfinite(c.device_height_m)) fs << "device_height_m" << c.device_height_m;
+  if (c.start) {
+    fs << "start" << "{" << "x" << c.start->p_inW.x() << "y" << c.start->p_inW.y();
+    if (std::isfinite(c.start->yaw)) fs << "yaw" << c.start->yaw;
+    fs << "sigma_m" << c.start->sigma_m << "}";
+  }
   if (!c.anchors.empty()) {
     fs << "anchors" << "[";
     for (const UwbAnchor& a : c.anchors)

@@ -52,6 +52,8 @@ FusionEngine::FusionEngine(const FusionOptions& options, const std::optional<Led
   // itself (tight coupling); otherwise (EKF, loose coupling) the scalar HeadingObserver
   // corrected by the camera's direct yaw. pf.heading.enabled = false: neither (the AHRS
   // yaw unchanged, as before).
+  start_ = options.start ? options.start : session.start;
+  if (start_ && std::isfinite(options.start_sigma_m) && options.start_sigma_m > 0.0) start_->sigma_m = options.start_sigma_m;
   ParticleFilterOptions pf_options = options.pf;
   pf_options.heading.enabled = options.pf.heading.enabled && options.tight_coupling;
   filter_ = make_planar_filter(FilterSettings{options.filter, pf_options, ekf_options(options.pf)});
@@ -205,6 +207,15 @@ void FusionEngine::on_imu(const ImuSample& raw, std::vector<PoseEstimate>& out) 
   }
   ahrs_.hold_magnetometer(heading_feedback_.since_fix_s(s.t) < heading_feedback_.options().mag_hold_s);
   ahrs_.update(compensated);
+  if (start_ && !filter_->initialized() && ahrs_.initialized()) {
+    // Dead reckoning from a known pose (issue 12): the yaw, when given, replaces the AHRS's.
+    if (std::isfinite(start_->yaw))
+      ahrs_.correct_heading(std::remainder(start_->yaw - ahrs_.yaw(), 2.0 * 3.14159265358979323846), 0.0);
+    filter_->initialize(start_->p_inW, Eigen::Matrix2d::Identity() * start_->sigma_m * start_->sigma_m);
+    t_filter_ = s.t;
+    ++stats_.started_at_known_pose;
+    start_.reset();
+  }
   if (ahrs_.initialized()) motion_.update(s, ahrs_.R_BtoW());
   have_imu_ = true;
   t_imu_ = s.t;

@@ -80,6 +80,7 @@ class FusionEngine final : public FusionStage {
   void emit(TimeNs t, std::vector<PoseEstimate>& out, bool force);
 
   FusionOptions options_;
+  std::optional<StartPose> start_;  // options_.start, else the session's; used once
   FusionStats stats_;
   MahonyFilter ahrs_;
   HeadingFeedback heading_feedback_;

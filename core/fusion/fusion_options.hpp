@@ -1,7 +1,9 @@
 #pragma once
 #include <limits>
+#include <optional>
 #include <string>
 
+#include "core/common/session_config.hpp"
 #include "core/filter/particle_filter.hpp"
 #include "core/fusion/heading_feedback.hpp"
 #include "core/fusion/motion_source.hpp"
@@ -43,6 +45,10 @@ struct FusionOptions {
   double tight_gate_m = 0.5;
   // Remove omega x v from the accelerometer before it serves as the gravity reference.
   bool compensate_centripetal = true;
+  // A known start (`--start`; else session.yaml's `start:`): the filter starts there at the
+  // first aligned IMU sample, without waiting for an absolute source.
+  std::optional<StartPose> start;
+  double start_sigma_m = std::numeric_limits<double>::quiet_NaN();  // NaN: the start's own sigma_m
   // Heading in the fusion (issue 11): the filters' yaw offset (pf.heading; the EKF path's
   // HeadingObserver takes the same noise) and its transfer into the AHRS.
   HeadingFeedbackOptions heading_feedback;

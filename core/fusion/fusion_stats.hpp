@@ -21,6 +21,7 @@ struct FusionStats {
   std::uint64_t other_samples = 0;    // kinds this filter does not use yet
   std::uint64_t corrections_ignored = 0;  // absolute samples past FusionOptions::absolute_for_s
   std::uint64_t poses = 0;
+  std::uint64_t started_at_known_pose = 0;  // 1 when --start / session.yaml start: began the run
   // Motion model (docs/MOTION.md): its name, the steps PDR detected, and the gait
   // calibration the fixes taught the filter (step-length scale, heading offset; NaN
   // without the pedestrian model), filled in by finish().

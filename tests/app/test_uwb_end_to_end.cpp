@@ -72,12 +72,14 @@ TEST_CASE("luxloc sim --scenario uwb -> run --playback: UWB + IMU within 0.15 m,
   CHECK(only.rmse_m < 0.5 * raw.rmse_m);  // the robust likelihood, not the IMU, removes the NLOS outliers
   CHECK(only.rmse_m < 0.2);
 
-  // Without anchors the UWB samples are counted as unusable, not silently fused.
+  // Without anchors the UWB samples are counted as unusable, not silently fused, and the run,
+  // which then has nothing to start from, says so (exit 2).
   const auto no_anchor = dir / "no_anchor";
   std::filesystem::create_directories(no_anchor);
   std::filesystem::copy_file(session / "uwb.csv", no_anchor / "uwb.csv");
   std::filesystem::copy_file(session / "imu.csv", no_anchor / "imu.csv");
   const auto r2 = run_luxloc("run --playback '" + no_anchor.string() + "' --out '" + (dir / "p2.csv").string() + "'");
-  CHECK(r2.exit_code == 0);
+  CHECK(r2.exit_code == 2);
   CHECK(r2.output.find("1200 from unknown anchors") != std::string::npos);
+  CHECK(r2.output.find("not in session.yaml's `anchors` list") != std::string::npos);
 }
