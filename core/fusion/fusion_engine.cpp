@@ -8,6 +8,10 @@
 namespace luxloc {
 namespace {
 
+// Consecutive corrections refused before a pose says "lost": 3 frames (0.1 s at 30 fps)
+// of disagreement are no longer noise; the restart follows at max_consecutive_rejections.
+constexpr int kLostAfterGated = 3;
+
 template <class... Ts>
 struct Overloaded : Ts... {
   using Ts::operator()...;
@@ -463,7 +467,19 @@ void FusionEngine::emit(TimeNs t, std::vector<PoseEstimate>& out, bool force) {
   p.sigma_y = std::sqrt(std::max(0.0, e.cov_p(1, 1)));
   p.n_eff = e.n_eff;
   p.leds = last_leds_;
-  p.mode = ns_to_seconds(t - t_last_fix_) < 1.0 ? "fused" : "dead-reckoning";
+  // SPEC.md's modes: re-initialised (for 1 s after the filter restarted around a fix), lost
+  // (the last corrections disagreed with the filter: it is being gated towards a restart),
+  // tracking (an absolute correction within the last second), else dead-reckoning.
+  if (stats_.reinitializations != reinits_seen_) {
+    reinits_seen_ = stats_.reinitializations;
+    t_last_reinit_ = t;
+  }
+  if (t_last_reinit_ && ns_to_seconds(t - *t_last_reinit_) < 1.0)
+    p.mode = "re-initialised";
+  else if (consecutive_gated_ >= kLostAfterGated || uwb_disagreements_ >= kLostAfterGated)
+    p.mode = "lost";
+  else
+    p.mode = ns_to_seconds(t - t_last_fix_) < 1.0 ? "tracking" : "dead-reckoning";
   out.push_back(std::move(p));
   ++stats_.poses;
   t_last_emit_ = t;

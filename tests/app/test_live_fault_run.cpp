@@ -55,8 +55,8 @@ TEST_CASE("Live fault: luxloc run, camera stalled 5 s and IMU clock jumping +10 
     if (marked && (t < 4.0 || t > 9.2)) ++misplaced;
     if (!marked && t > 5.0 && t < 8.8) ++misplaced;  // the whole stall, past its first 0.5 s
     if (marked && t > 5.5 && t < 8.8 && mode.rfind("dead-reckoning", 0) != 0) ++misplaced;  // no fix for > 1 s
-    fused_before += t > 2.0 && t < 3.9 && mode == "fused";
-    fused_after += t > 10.0 && mode == "fused";
+    fused_before += t > 2.0 && t < 3.9 && mode == "tracking";
+    fused_after += t > 10.0 && mode == "tracking";
   }
   CHECK(silent > 150);  // about 4.5 s of 50 Hz poses
   CHECK(misplaced == 0);
