@@ -15,6 +15,7 @@
 #include "app/commands.hpp"
 #include "core/sim/imu_grade.hpp"
 #include "core/sim/mag_disturbance.hpp"
+#include "core/sim/walker_population.hpp"
 #include "core/sim/scenario.hpp"
 #include "core/sim/session_writer.hpp"
 #include "core/sim/simulator.hpp"
@@ -38,6 +39,7 @@ struct SimArgs {
   // IMU model (empty / unset: the scenario's).
   std::string imu_grade;
   std::string mag_disturbance;
+  std::string walker = "default";
   std::string gyro_bias_dps;  // "B" or "BX,BY,BZ": a fixed gyro bias
   std::optional<double> gyro_bias_rw_dps;
   std::optional<double> acc_bias_mps2;
@@ -106,6 +108,13 @@ int run_sim(const SimArgs& a) {
   options.render.read_noise_dn = a.read_noise_dn;
   for (const std::string& b : a.blackouts) options.blackouts.push_back(parse_blackout(b));
   sim::Scenario scenario = sim::make_scenario(a.scenario);
+  if (a.walker == "random") {
+    if (!scenario.walk)
+      throw CLI::ValidationError("--walker", "scenario '" + a.scenario + "' has no walker to replace");
+    const double duration = a.duration_s > 0.0 ? a.duration_s : scenario.duration_s;
+    options.walker = sim::draw_walker(a.seed, duration);
+    scenario.trajectory = std::make_shared<sim::WalkTrajectory>(sim::apply_walker(*scenario.walk, *options.walker));
+  }
   options.imu = sim::imu_grade(a.imu_grade.empty() ? scenario.imu_grade : a.imu_grade);
   options.mag_disturbance = a.mag_disturbance.empty() ? scenario.mag_disturbance : a.mag_disturbance;
   if (!a.gyro_bias_dps.empty()) {
@@ -173,6 +182,11 @@ void add_sim_command(CLI::App& root, Action& action) {
                   "IMU model: default (the historic sim IMU), ideal, tactical, consumer (gyro bias up to 1 deg/s, "
                   "bias walk, scale errors), poor (docs/SIMULATOR.md)")
       ->check(CLI::IsMember(sim::imu_grade_names()));
+  cmd->add_option("--walker", args->walker,
+                  "the pedestrian: default (the scenario's) or random (drawn from --seed: step length 0.35-0.85 m, "
+                  "cadence 1.4-2.2 Hz, turns, bounce, sway, stops of 1-10 s; written to sim_truth.yaml)")
+      ->check(CLI::IsMember({"default", "random"}))
+      ->capture_default_str();
   cmd->add_option("--mag-disturbance", args->mag_disturbance,
                   "magnetic disturbance: none, steel (a pillar beside the path at 30 % of the run), magnet (carried "
                   "past at 60 %), both")

@@ -240,6 +240,21 @@ void add_run_options(CLI::App* sub, RunConfig& cfg) {
 
 void add_particle_filter_options(CLI::App* sub, ParticleFilterOptions& pf) {
   const char* g = "Particle filter";
+  sub->add_option("--gait-scale-sigma", pf.gait.scale_sigma0,
+                  "pdr: initial spread (1 sigma) of the step-length scale the fixes calibrate (docs/MOTION.md)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str()
+      ->group(g);
+  sub->add_option("--gait-turn-noise", pf.gait.turn_noise,
+                  "pdr: share of each step's turn that is uncertain along and across the walk")
+      ->check(CLI::Range(0.0, 2.0))
+      ->capture_default_str()
+      ->group(g);
+  sub->add_option("--gait-scale-walk", pf.gait.scale_walk,
+                  "pdr: random walk of the step-length scale, 1 sigma per sqrt(s)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str()
+      ->group(g);
   sub->add_option("--genetic-threshold", pf.genetic.threshold,
                   "gpf: a particle is excellent when w / max w >= this (SEEDS.md B.5a)")
       ->check(CLI::Range(0.0, 1.0))

@@ -42,8 +42,10 @@ void EkfFilter::predict_gait(const MotionInput& u) {
   const double T = g.step_period_s > 0.05 ? g.step_period_s : 0.55;
   const double l = s * T, q0 = std::max(0.0, options_.gait.position_psd);
   const Eigen::Vector2d u_h(std::cos(g.heading_rad), std::sin(g.heading_rad)), u_hp(-u_h.y(), u_h.x());
-  const double q_along = (g.length_sigma_m * g.length_sigma_m / T + q0) * dt;
-  const double q_cross = (l * l * g.heading_sigma_rad * g.heading_sigma_rad / T + q0) * dt;
+  const double turn = std::isfinite(g.turn_rate_rps) ? options_.gait.turn_noise * std::abs(g.turn_rate_rps) * T * l : 0.0;
+  const double q_turn = turn * turn / T;
+  const double q_along = (g.length_sigma_m * g.length_sigma_m / T + q0 + q_turn) * dt;
+  const double q_cross = (l * l * g.heading_sigma_rad * g.heading_sigma_rad / T + q0 + q_turn) * dt;
   Matrix6 Q = Matrix6::Zero();
   Q.topLeftCorner<2, 2>() = q_along * u_h * u_h.transpose() + q_cross * u_hp * u_hp.transpose();
   Q(4, 4) = options_.gait.scale_walk * options_.gait.scale_walk * dt;

@@ -250,9 +250,12 @@ void ParticleFilter::predict_gait(const MotionInput& u) {
   const double T = g.step_period_s > 0.05 ? g.step_period_s : 0.55;
   const double l = speed * T;
   const double q0 = std::max(0.0, options_.gait.position_psd);
-  const float s_along = static_cast<float>(std::sqrt((g.length_sigma_m * g.length_sigma_m / T + q0) * dt));
+  const double turn = std::isfinite(g.turn_rate_rps) ? options_.gait.turn_noise * std::abs(g.turn_rate_rps) * T * l : 0.0;
+  const double q_turn = turn * turn / T;
+  const float s_along =
+      static_cast<float>(std::sqrt((g.length_sigma_m * g.length_sigma_m / T + q0 + q_turn) * dt));
   const float s_cross =
-      static_cast<float>(std::sqrt((l * l * g.heading_sigma_rad * g.heading_sigma_rad / T + q0) * dt));
+      static_cast<float>(std::sqrt((l * l * g.heading_sigma_rad * g.heading_sigma_rad / T + q0 + q_turn) * dt));
   const float c = static_cast<float>(std::cos(g.heading_rad)), s = static_cast<float>(std::sin(g.heading_rad));
   const float s_k = static_cast<float>(options_.gait.scale_walk * std::sqrt(dt));
   const float s_d = static_cast<float>(options_.gait.heading_offset_walk * std::sqrt(dt));

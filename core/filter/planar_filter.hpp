@@ -20,6 +20,9 @@ struct GaitInput {
   double length_sigma_m = 0.0;     // 1 sigma of one step's length
   double heading_sigma_rad = 0.0;  // 1 sigma of one step's heading
   double step_period_s = 0.55;     // T_k: the per-step noise accrues over this time
+  // Yaw rate about the vertical (rad/s): in turns walkers cut corners, slow down and step
+  // off the device's heading by amounts no model of one walker knows (GaitNoise::turn_noise).
+  double turn_rate_rps = 0.0;
 };
 
 // Motion between two IMU samples (or frames), over dt. Which fields count decides the

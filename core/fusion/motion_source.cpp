@@ -24,6 +24,7 @@ void MotionSource::update(const ImuSample& s, const Eigen::Matrix3d& R_BtoW) {
   const double a_along = a_inW.x() * std::cos(heading_rad_) + a_inW.y() * std::sin(heading_rad_);
   // Yaw rate: the body rate about the world vertical.
   const double yaw_rate = (R_BtoW * s.gyro_inB).z();
+  yaw_rate_ = yaw_rate;
   gait_.update(s.t, a_inW.z(), a_along, yaw_rate);
   while (const std::optional<Step> step = pdr_.pop_step()) gait_.add_step(*step);
 }
@@ -66,6 +67,7 @@ MotionInput MotionSource::input(TimeNs t0, TimeNs t1) {
       u.gait.speed_mps = gait_.take_speed(t0, t1);
       u.gait.heading_rad = heading_rad_;
       u.gait.step_period_s = gait_.step_period_s();
+      u.gait.turn_rate_rps = yaw_rate_;
       // Per-step noise only while walking (standing still has no step to be wrong about).
       if (u.gait.speed_mps > 0.0 && gait_.has_step()) {
         u.gait.length_sigma_m = gait_.last_step().length_sigma_m;

@@ -67,6 +67,7 @@ class MotionSource {
   bool valid_ = false;
   Eigen::Vector2d acc_inW_ = Eigen::Vector2d::Zero();
   double heading_rad_ = 0.0;
+  double yaw_rate_ = 0.0;  // rad/s about the world vertical, last sample
 };
 
 }  // namespace luxloc

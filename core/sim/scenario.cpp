@@ -88,6 +88,7 @@ Scenario walk() {
   w.height_m = s.device_height_m;
   w.walking = {{2.0, 31.0}, {33.0, 61.0}, {63.0, kInf}};  // stand 2 s first, then stop twice for 2 s
   s.trajectory = std::make_shared<WalkTrajectory>(w);
+  s.walk = w;
   return s;
 }
 
@@ -103,6 +104,7 @@ Scenario square() {
   w.gait.step_hz = 1.4;
   w.gait.bounce_m = 0.008;
   s.trajectory = std::make_shared<WalkTrajectory>(w);
+  s.walk = w;
   return s;
 }
 
@@ -149,6 +151,7 @@ Scenario uwb() {
   w.height_m = s.device_height_m;
   w.walking = {{2.0, 41.0}, {43.0, 81.0}, {83.0, kInf}};
   s.trajectory = std::make_shared<WalkTrajectory>(w);
+  s.walk = w;
   return s;
 }
 

@@ -2,12 +2,14 @@
 // Named simulation scenarios: the room and its LED map, the camera, the device height and
 // the trajectory, with a default duration (docs/SIMULATOR.md "Scenarios").
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "core/common/session_config.hpp"
 #include "core/sim/trajectory.hpp"
 #include "core/sim/uwb_synth.hpp"
+#include "core/sim/walk_trajectory.hpp"
 #include "core/vlc/camera_model.hpp"
 #include "core/vlc/led_map.hpp"
 
@@ -22,6 +24,9 @@ struct Scenario {
   LedMap map;
   CameraModel camera;
   std::shared_ptr<const Trajectory> trajectory;
+  // The pedestrian scenarios' walk (its path, height and walker), so `sim --walker random`
+  // can walk the same path with another walker (walker_population.hpp); empty otherwise.
+  std::optional<WalkOptions> walk;
   bool frames = true;               // false: the session has no camera frames (UWB, IMU, truth)
   bool floor_camera = false;        // frames show the textured floor (FloorRenderer), not LEDs
   bool start_fix = false;           // fixes.csv with the true start position (relative navigation)

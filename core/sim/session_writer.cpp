@@ -146,6 +146,15 @@ void write_sim_truth(const Simulator& sim, const fs::path& p) {
   fs << "blackouts" << "[";
   for (const Blackout& b : o.blackouts) fs << "{:" << "start_s" << b.start_s << "duration_s" << b.duration_s << "}";
   fs << "]";
+  if (o.walker) {
+    const WalkerDraw& w = *o.walker;
+    fs << "walker" << "{" << "step_length_m" << w.step_length_m << "step_hz" << w.step_hz << "speed_mps" << w.speed_mps
+       << "corner_sigma_m" << w.corner_sigma_m << "speed_modulation" << w.speed_modulation << "bounce_m" << w.bounce_m
+       << "sway_scale" << w.sway_scale << "walking" << "[";
+    for (const WalkInterval& i : w.walking)
+      fs << "{:" << "start_s" << i.start_s << "stop_s" << (std::isfinite(i.stop_s) ? i.stop_s : -1.0) << "}";
+    fs << "]" << "}";
+  }
   fs << "peak_dn" << o.render.peak_dn << "black_dn" << o.render.black_dn << "read_noise_dn" << o.render.read_noise_dn;
 }
 

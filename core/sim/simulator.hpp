@@ -5,6 +5,7 @@
 // Thread-safe for concurrent const use (frames can be rendered in parallel).
 #include <cstdint>
 #include <string>
+#include <optional>
 #include <vector>
 
 #include "core/common/samples.hpp"
@@ -15,6 +16,7 @@
 #include "core/sim/imu_synth.hpp"
 #include "core/sim/mag_disturbance.hpp"
 #include "core/sim/scenario.hpp"
+#include "core/sim/walker_population.hpp"
 
 namespace luxloc::sim {
 
@@ -36,6 +38,9 @@ struct SimOptions {
   ImuNoise imu;
   std::string mag_disturbance = "none";  // mag_disturbance_names(): steel, magnet, both
   RenderOptions render;
+  // The walker drawn by `--walker random` (already in the scenario's trajectory; kept here
+  // for sim_truth.yaml).
+  std::optional<WalkerDraw> walker;
 };
 
 class Simulator {

@@ -1,0 +1,53 @@
+#include "core/sim/walker_population.hpp"
+
+#include <algorithm>
+#include <limits>
+#include <random>
+
+#include "core/sim/seeding.hpp"
+
+namespace luxloc::sim {
+
+WalkerDraw draw_walker(std::uint64_t seed, double duration_s) {
+  std::mt19937_64 rng = make_rng(seed, RandomStream::walker);
+  const auto uniform = [&rng](double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); };
+  WalkerDraw w;
+  w.step_hz = uniform(1.4, 2.2);
+  w.step_length_m = uniform(0.35, 0.85);
+  // 1.8 m/s: a brisk walk; faster is running, which the gait model does not claim.
+  w.speed_mps = std::min(1.8, w.step_length_m * w.step_hz);
+  w.step_length_m = w.speed_mps / w.step_hz;
+  w.corner_sigma_m = uniform(0.3, 1.0);
+  w.speed_modulation = uniform(0.05, 0.20);
+  w.bounce_m = uniform(0.008, 0.03);
+  w.sway_scale = uniform(0.5, 2.0);
+  // Stand 2 s, then walks of 10-30 s separated by stops of 1-10 s (standing time between
+  // the ramps), the last walk to the end.
+  double t = 2.0;
+  while (true) {
+    const double walk = uniform(10.0, 30.0);
+    if (t + walk + 12.0 >= duration_s) {
+      w.walking.push_back({t, std::numeric_limits<double>::infinity()});
+      break;
+    }
+    w.walking.push_back({t, t + walk});
+    t += walk + uniform(1.0, 10.0);
+  }
+  return w;
+}
+
+WalkOptions apply_walker(WalkOptions base, const WalkerDraw& w) {
+  base.corner_sigma_m = w.corner_sigma_m;
+  base.walking = w.walking;
+  GaitOptions& g = base.gait;
+  g.speed_mps = w.speed_mps;
+  g.step_hz = w.step_hz;
+  g.speed_modulation = w.speed_modulation;
+  g.bounce_m = w.bounce_m;
+  g.roll_sway_rad *= w.sway_scale;
+  g.pitch_sway_rad *= w.sway_scale;
+  g.yaw_sway_rad *= w.sway_scale;
+  return base;
+}
+
+}  // namespace luxloc::sim

@@ -1,0 +1,60 @@
+#!/usr/bin/env bash
+# Accuracy over a population of walkers (issue 12): every session draws its own walker
+# (`luxloc sim --walker random`: step length 0.35-0.85 m, cadence 1.4-2.2 Hz, turns, bounce,
+# sway, stops) and a consumer-grade IMU. Usage: scripts/population_table.sh [FIRST LAST [LUXLOC]];
+# defaults: the hold-out seeds 101-130 (constants are tuned on 1-10). One row per case: mean
+# ATE RMSE, mean p95, the largest error of all and its seed, the share of poses within their
+# own 95 % ellipse (mean, and the worst session), yaw p95 (mean). Cases (CASES to select):
+#   vlc        walk scenario, IMU + VLC, defaults
+#   blackout   the same with all lights off 40-55 s (max error in the blackout, and 2-3 s after)
+#   uwb        uwb scenario (one TOF + AOA base station, 5 % NLOS), IMU + UWB
+#   pdr        IMU only from the true start (--start): end error as % of the distance walked
+set -euo pipefail
+first=${1:-101}; last=${2:-130}; luxloc=${3:-build/luxloc}; shift $(( $# < 3 ? $# : 3 )) || true
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+printf '| case | sessions | ATE RMSE (mean) | p95 (mean) | max (seed) | within 95 %% (mean / worst) | yaw p95 (mean) | extra |\n|---|---|---|---|---|---|---|---|\n'
+for case in ${CASES:-vlc blackout uwb pdr}; do
+  : > "$tmp/rows"
+  for seed in $(seq "$first" "$last"); do
+    d="$tmp/s"; rm -rf "$d"
+    args=(--seed "$seed" --walker random --imu-grade consumer); run=()
+    case $case in
+      vlc) "$luxloc" sim --out "$d" --scenario walk "${args[@]}" > /dev/null ;;
+      blackout) "$luxloc" sim --out "$d" --scenario walk "${args[@]}" --blackout 40:15 > /dev/null ;;
+      uwb) "$luxloc" sim --out "$d" --scenario uwb "${args[@]}" > /dev/null ;;
+      pdr) "$luxloc" sim --out "$d" --scenario walk --no-frames "${args[@]}" > /dev/null
+           start=$(awk -F, 'NR==2 { print $2 "," $3 "," $5 }' "$d/groundtruth.csv"); run=(--start "$start" --start-sigma 0.02) ;;
+    esac
+    "$luxloc" run --playback "$d" --out "$tmp/p.csv" -q "${run[@]}" "$@"
+    "$luxloc" eval "$tmp/p.csv" --truth "$d/groundtruth.csv" --json > "$tmp/e.json"
+    python3 - "$tmp/e.json" "$tmp/p.csv" "$d/groundtruth.csv" "$case" "$seed" >> "$tmp/rows" <<'PY'
+import csv, json, math, sys
+e = json.load(open(sys.argv[1])); case = sys.argv[4]; seed = sys.argv[5]
+extra = float("nan")
+if case in ("blackout", "pdr"):
+    poses = list(csv.DictReader(open(sys.argv[2]))); truth = list(csv.DictReader(open(sys.argv[3])))
+    tt = [float(r["t"]) for r in truth]
+    import bisect
+    def err(p):
+        t = float(p["t"]); i = min(bisect.bisect_left(tt, t), len(tt) - 1)
+        return math.hypot(float(p["x"]) - float(truth[i]["x"]), float(p["y"]) - float(truth[i]["y"]))
+    if case == "blackout":
+        extra = max(err(p) for p in poses if 40.0 <= float(p["t"]) < 55.0)
+        extra2 = max(err(p) for p in poses if 57.0 <= float(p["t"]) < 58.0)
+        extra = f"{extra:.3f}/{extra2:.3f}"
+    else:
+        dist = sum(math.hypot(float(b["x"]) - float(a["x"]), float(b["y"]) - float(a["y"])) for a, b in zip(truth, truth[1:]))
+        extra = f"{100 * err(poses[-1]) / dist:.2f}"
+yaw = math.degrees(e["yaw_p95_rad"]) if "yaw_p95_rad" in e else float("nan")
+print(seed, e["ate_rmse_m"], e["p95_m"], e["max_m"], e.get("consistency", float("nan")), yaw, extra)
+PY
+  done
+  awk -v c="$case" '{ n++; ate += $2; p95 += $3; if ($4 > mx) { mx = $4; ms = $1 } cons += $5; if (n == 1 || $5 < wc) { wc = $5; ws = $1 }
+      yaw += $6; if (c == "blackout") { split($7, b, "/"); if (b[1] > bd) { bd = b[1]; bs = $1 } if (b[2] > ba) ba = b[2] }
+      if (c == "pdr") { pd += $7; if ($7 > pw) { pw = $7; ps = $1 } } }
+    END { extra = "-"
+      if (c == "blackout") extra = sprintf("blackout max %.3f m (seed %d), 2 s after max %.3f m", bd, bs, ba)
+      if (c == "pdr") extra = sprintf("end error %.2f %% of distance (mean), worst %.2f %% (seed %d)", pd / n, pw, ps)
+      printf "| %s | %d | %.3f m | %.3f m | %.3f m (%d) | %.1f %% / %.1f %% (%d) | %.2f deg | %s |\n", c, n, ate / n, p95 / n, mx, ms,
+             100 * cons / n, 100 * wc, ws, yaw / n, extra }' "$tmp/rows"
+done
