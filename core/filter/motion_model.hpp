@@ -57,8 +57,10 @@ struct GaitNoise {
   // Floor on the position diffusion (m^2/s), also while standing: model error.
   double position_psd = 1e-4;
   // Turns: a fraction of each step's turn (|omega| T) is uncertain, along and across the
-  // walk: sigma per step = turn_noise |omega| T l (see GaitInput::turn_rate_rps).
-  double turn_noise = 0.0;
+  // walk: sigma per step = turn_noise |omega| T l (see GaitInput::turn_rate_rps). 0.1: the
+  // walker population, seeds 1-10: sigma consistency 83 -> 86-88 %, ATE unchanged; 0.25 gave
+  // 90-91 % but larger blackout excursions (the wider cloud wanders further in the dark).
+  double turn_noise = 0.1;
 };
 
 }  // namespace luxloc
