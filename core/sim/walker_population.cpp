@@ -19,7 +19,12 @@ WalkerDraw draw_walker(std::uint64_t seed, double duration_s) {
   w.step_length_m = w.speed_mps / w.step_hz;
   w.corner_sigma_m = uniform(0.3, 1.0);
   w.speed_modulation = uniform(0.05, 0.20);
-  w.bounce_m = uniform(0.008, 0.03);
+  // The vertical bounce follows the step (an inverted pendulum rises with the square of the
+  // step over the leg): the default walker's 1.5 cm at 0.69 m steps, scaled by (L / 0.69)^2,
+  // times a person-to-person factor 0.7-1.3. (Drawn independently of L, a 0.35 m step could
+  // bounce like a 0.8 m one: no walker does, and no step-length model could follow.)
+  const double rel = w.step_length_m / 0.694;
+  w.bounce_m = std::clamp(0.015 * rel * rel * uniform(0.7, 1.3), 0.004, 0.04);
   w.sway_scale = uniform(0.5, 2.0);
   // Stand 2 s, then walks of 10-30 s separated by stops of 1-10 s (standing time between
   // the ramps), the last walk to the end.
