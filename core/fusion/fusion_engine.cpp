@@ -115,6 +115,9 @@ void FusionEngine::finish(std::vector<PoseEstimate>& out) {
   // Without a single IMU sample every prediction was constant velocity, whatever --motion.
   stats_.motion = have_imu_ ? to_string(motion_.model()) : "cv (no IMU samples)";
   stats_.steps = motion_.steps();
+  stats_.motion_auto = motion_.model() == MotionModel::pdr && options_.motion.gait_gate;
+  stats_.steps_used = motion_.steps_used();
+  stats_.regime_s = motion_.regime_seconds();
   if (pf_) {
     if (const ParticleFilter::GaitEstimate g = pf_->gait_estimate(); g.valid) {
       stats_.gait_scale = g.scale;
