@@ -555,10 +555,16 @@ void print_report(const RunOutcome& r, std::ostream& log) {
   }
   const UwbStats& u = r.uwb;
   if (u.samples) {
-    log << "  uwb: " << u.samples << " measurements, " << u.weighed << " weighed, " << u.fixes << " position fixes, "
-        << u.disagreements << " far from the filter, " << u.reinitializations << " re-initialisations";
-    if (u.unknown_anchor) log << ", " << u.unknown_anchor << " from unknown anchors (not in session.yaml)";
-    if (u.rejected) log << ", " << u.rejected << " unusable";
+    // One line whose parts add up to the measurements (issue 16 part 6).
+    log << "  uwb: " << u.samples << " measurements = " << u.weighed + u.fixes_used << " used (" << u.weighed
+        << " ranges weighed by the filter, " << u.fixes_used << " as position fixes) + " << u.fixes_gated
+        << " fixes gated + " << u.reinitializations << " restarted the filter + " << u.no_fix
+        << " waiting for a fix + " << u.underflow << " refused (all weights underflowed) + "
+        << u.unknown_anchor + u.rejected << " rejected (" << u.unknown_anchor
+        << " from anchors not in session.yaml, " << u.rejected << " unusable)";
+    if (u.accounted() != u.samples) log << " [" << u.samples - u.accounted() << " unaccounted]";
+    log << "; " << u.fixes << " position fixes made, " << u.disagreements
+        << " ranges far from the filter's mean (weighed all the same: a run of them restarts the filter)";
     if (u.learnt_anchors) log << ", " << u.learnt_anchors << " anchor positions taken from the device";
     log << "\n";
   }

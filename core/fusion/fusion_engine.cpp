@@ -353,7 +353,11 @@ void FusionEngine::on_uwb(const UwbSample& s, std::vector<PoseEstimate>& out) {
   std::optional<PositionMeasurement> fix = uwb_->fix(s);
   UwbStats& st = uwb_->stats();
   if (uwb_->options().fixes_only) {  // UWB alone: the fix is the pose
-    if (!fix || !fix->z.allFinite()) return;
+    if (!fix || !fix->z.allFinite()) {
+      ++st.no_fix;
+      return;
+    }
+    ++st.fixes_used;
     PoseEstimate p;
     p.t = s.t;
     p.p_BinW = {fix->z.x(), fix->z.y(), device_height_m_};
@@ -372,8 +376,12 @@ void FusionEngine::on_uwb(const UwbSample& s, std::vector<PoseEstimate>& out) {
     // Loose coupling (seed B.3 fix, Gaussian weighting as in seed A, S302), the EKF, and
     // the first fix of a tight run.
     if (fix) {
+      const std::uint64_t gated = stats_.fixes_gated;
       apply_position(*fix);
+      ++(stats_.fixes_gated > gated ? st.fixes_gated : st.fixes_used);
       if (!have_imu_) emit(s.t, out, true);
+    } else {
+      ++st.no_fix;
     }
     return;
   }
@@ -409,6 +417,8 @@ void FusionEngine::on_uwb(const UwbSample& s, std::vector<PoseEstimate>& out) {
     pf_->initialize(fix->z, fix->R * 4.0);
     ++st.reinitializations;
     ++stats_.reinitializations;
+  } else {
+    ++st.underflow;
   }
   if (!have_imu_) emit(s.t, out, true);
 }
