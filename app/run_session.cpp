@@ -561,7 +561,7 @@ void print_report(const RunOutcome& r, std::ostream& log) {
         << " fixes gated + " << u.reinitializations << " restarted the filter + " << u.no_fix
         << " waiting for a fix + " << u.underflow << " refused (all weights underflowed) + "
         << u.unknown_anchor + u.rejected << " rejected (" << u.unknown_anchor
-        << " from anchors not in session.yaml, " << u.rejected << " unusable)";
+        << " from unknown anchors (not in session.yaml), " << u.rejected << " unusable)";
     if (u.accounted() != u.samples) log << " [" << u.samples - u.accounted() << " unaccounted]";
     log << "; " << u.fixes << " position fixes made, " << u.disagreements
         << " ranges far from the filter's mean (weighed all the same: a run of them restarts the filter)";
