@@ -532,8 +532,8 @@ void print_report(const RunOutcome& r, std::ostream& log) {
     log << "  motion: " << f.motion;
     if (f.motion_auto) {
       // The mode over time (issue 16): walking with the pedestrian model, or not.
-      log << " (auto: " << f.steps_used << " of " << f.steps << " detected steps "
-          << (f.steps_used > 0 ? "in a gait" : "used, no gait seen") << "); mode: walking " << std::setprecision(1)
+      log << ", " << f.steps << " steps (auto: " << f.steps_used
+          << (f.steps_used > 0 ? " in a gait" : " used, no gait seen") << "); mode: walking " << std::setprecision(1)
           << f.regime_s[2] << " s, moving without steps (strapdown) " << f.regime_s[1] << " s, still "
           << f.regime_s[3] << " s" << std::setprecision(2);
     } else if (f.motion == "pdr") {
