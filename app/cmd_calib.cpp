@@ -262,12 +262,13 @@ void add_calib_camera(CLI::App& calib, Action& action) {
 }  // namespace
 
 void add_calib_command(CLI::App& root, Action& action) {
-  CLI::App* calib = root.add_subcommand("calib", "calibration tools: imu, camera, rowtime, ledmap");
+  CLI::App* calib = root.add_subcommand("calib", "calibration tools: imu, camera, rowtime, ledmap, uwb");
   calib->require_subcommand(1);
   add_calib_imu(*calib, action);
   add_calib_camera(*calib, action);
   add_calib_ledmap(*calib, action);
   add_calib_rowtime(*calib, action);
+  add_calib_uwb(*calib, action);
 }
 
 }  // namespace luxloc::app

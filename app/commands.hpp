@@ -22,6 +22,8 @@ void add_record_command(CLI::App& root, Action& action);
 void add_calib_ledmap(CLI::App& calib, Action& action);
 // `calib rowtime` (app/cmd_calib_rowtime.cpp), registered under `calib`.
 void add_calib_rowtime(CLI::App& calib, Action& action);
+// `calib uwb` (app/cmd_calib_uwb.cpp), registered under `calib`.
+void add_calib_uwb(CLI::App& calib, Action& action);
 // `bench soak` (app/cmd_bench_soak.cpp), registered under `bench`.
 void add_bench_soak(CLI::App& bench, Action& action);
 // `bench live` (app/cmd_bench_live.cpp), registered under `bench`.

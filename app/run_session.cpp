@@ -96,14 +96,20 @@ void add_run_options(CLI::App* sub, RunConfig& cfg) {
       ->capture_default_str();
   sub->add_option("--motion", cfg.motion,
                   "motion model of the prediction: pdr (steps, step length, attitude heading; gait calibrated by "
-                  "the fixes) | strapdown (world acceleration) | cv (constant velocity, no IMU) | auto (pdr; "
-                  "strapdown with --vo: a vehicle, seed C); docs/MOTION.md")
+                  "the fixes) | strapdown (world acceleration) | cv (constant velocity, no IMU) | auto (pdr whose steps count only "
+                  "once a gait is seen: cadence 1.2-2.5 Hz, regular, alike; strapdown until then, so vibration "
+                  "cannot walk away; strapdown with --vo: a vehicle, seed C; --platform decides when given); "
+                  "docs/MOTION.md")
       ->check(CLI::IsMember([] {
         auto names = motion_model_names();
         names.push_back("auto");
         return names;
       }()))
       ->capture_default_str();
+  sub->add_option("--platform", cfg.platform,
+                  "what carries the device, when known: pedestrian | handheld (pdr) | robot | vehicle (cv: smooth, "
+                  "no gait) | drone (strapdown); sets the motion model of --motion auto")
+      ->check(CLI::IsMember({"pedestrian", "handheld", "robot", "vehicle", "drone"}));
   sub->add_option("--imu-calib", cfg.imu_calib, "IMU calibration YAML from `luxloc calib imu`")
       ->check(CLI::ExistingFile)
       ->type_name("FILE");
@@ -393,7 +399,17 @@ RunOutcome run_session(const RunConfig& cfg, std::ostream& log) {
   c.uwb.noise.likelihood = cfg.uwb_likelihood == "gaussian" ? UwbLikelihood::gaussian : UwbLikelihood::robust;
   // auto: a pedestrian (pdr), except with visual odometry, seed C's strapdown + VO (the VO
   // scenario is a smooth ride without steps, where pdr would see a still device).
-  c.fusion.motion.model = parse_motion_model(cfg.motion != "auto" ? cfg.motion : cfg.vo.enabled ? "strapdown" : "pdr");
+  // --platform names the model; else the data decide: pdr behind the gait gate.
+  const std::string platform_model = cfg.platform == "pedestrian" || cfg.platform == "handheld" ? "pdr"
+                                     : cfg.platform == "robot" || cfg.platform == "vehicle"   ? "cv"
+                                     : cfg.platform == "drone"                                ? "strapdown"
+                                                                                              : "";
+  const bool by_data = cfg.motion == "auto" && platform_model.empty() && !cfg.vo.enabled;
+  c.fusion.motion.model = parse_motion_model(cfg.motion != "auto"     ? cfg.motion
+                                             : !platform_model.empty() ? platform_model
+                                             : cfg.vo.enabled          ? "strapdown"
+                                                                       : "pdr");
+  c.fusion.motion.gait_gate = by_data;
   if (!cfg.imu_calib.empty()) c.fusion.imu_calibration = load_imu_calibration(cfg.imu_calib);
 
   OpenedSources opened = open_run_sources(c);
@@ -529,7 +545,15 @@ void print_report(const RunOutcome& r, std::ostream& log) {
   log << "\n";
   if (!f.motion.empty()) {
     log << "  motion: " << f.motion;
-    if (f.motion == "pdr") log << ", " << f.steps << " steps";
+    if (f.motion_auto) {
+      // The mode over time (issue 16): walking with the pedestrian model, or not.
+      log << ", " << f.steps << " steps (auto: " << f.steps_used
+          << (f.steps_used > 0 ? " in a gait" : " used, no gait seen") << "); mode: walking " << std::setprecision(1)
+          << f.regime_s[2] << " s, moving without steps (strapdown) " << f.regime_s[1] << " s, still "
+          << f.regime_s[3] << " s" << std::setprecision(2);
+    } else if (f.motion == "pdr") {
+      log << ", " << f.steps << " steps";
+    }
     if (std::isfinite(f.gait_scale))
       log << ", gait calibrated to step-length scale " << std::setprecision(3) << f.gait_scale
           << ", heading offset " << std::setprecision(2) << f.gait_heading_offset_rad * 180.0 / 3.141592653589793
@@ -546,10 +570,16 @@ void print_report(const RunOutcome& r, std::ostream& log) {
   }
   const UwbStats& u = r.uwb;
   if (u.samples) {
-    log << "  uwb: " << u.samples << " measurements, " << u.weighed << " weighed, " << u.fixes << " position fixes, "
-        << u.disagreements << " far from the filter, " << u.reinitializations << " re-initialisations";
-    if (u.unknown_anchor) log << ", " << u.unknown_anchor << " from unknown anchors (not in session.yaml)";
-    if (u.rejected) log << ", " << u.rejected << " unusable";
+    // One line whose parts add up to the measurements (issue 16 part 6).
+    log << "  uwb: " << u.samples << " measurements = " << u.weighed + u.fixes_used << " used (" << u.weighed
+        << " ranges weighed by the filter, " << u.fixes_used << " as position fixes) + " << u.fixes_gated
+        << " fixes gated + " << u.reinitializations << " restarted the filter + " << u.no_fix
+        << " waiting for a fix + " << u.underflow << " refused (all weights underflowed) + "
+        << u.unknown_anchor + u.rejected << " rejected (" << u.unknown_anchor
+        << " from unknown anchors (not in session.yaml), " << u.rejected << " unusable)";
+    if (u.accounted() != u.samples) log << " [" << u.samples - u.accounted() << " unaccounted]";
+    log << "; " << u.fixes << " position fixes made, " << u.disagreements
+        << " ranges far from the filter's mean (weighed all the same: a run of them restarts the filter)";
     if (u.learnt_anchors) log << ", " << u.learnt_anchors << " anchor positions taken from the device";
     log << "\n";
   }

@@ -27,6 +27,7 @@ struct RunConfig {
   std::string resampling = "systematic";
   std::string coupling = "tight";    // tight | loose
   std::string motion = "auto";       // auto | pdr | strapdown | cv (docs/MOTION.md)
+  std::string platform;              // empty | pedestrian | handheld | robot | vehicle | drone (issue 16)
   std::string imu_calib;             // --imu-calib FILE (luxloc calib imu)
   std::string out;                   // pose file; "-" = stdout; empty and no --udp: stdout
   std::vector<std::string> udp;      // HOST:PORT, repeatable

@@ -13,6 +13,13 @@ namespace luxloc {
 struct UwbAnchor {
   int id = 0;
   Eigen::Vector3d p_inW = Eigen::Vector3d::Zero();
+  // The anchor's range calibration (issue 16, `luxloc calib uwb`): a line-of-sight range
+  // reads measured = scale * true + bias_m (antenna delay: bias, clock: scale). Optional in
+  // session.yaml; the defaults leave ranges as measured.
+  double bias_m = 0.0;
+  double scale = 1.0;
+  // The range this anchor's calibration makes of a measured one: (measured - bias) / scale.
+  double corrected_range(double measured_m) const { return (measured_m - bias_m) / scale; }
 };
 
 // A known start (`run --start X,Y[,YAW]`, session.yaml `start: {x, y, yaw, sigma_m}`): the

@@ -35,6 +35,11 @@ std::vector<UwbAnchor> read_anchors(const YamlFile& f) {
     u.id = f.integer(idn, "anchors.id", label);
     if (!ids.insert(u.id).second) f.fail("anchors.id", label, "duplicate id " + std::to_string(u.id));
     u.p_inW = {anchor_number(f, a, label, "x"), anchor_number(f, a, label, "y"), anchor_number(f, a, label, "z")};
+    if (const cv::FileNode b = f.member(a, "bias_m", label); !b.empty()) u.bias_m = f.number(b, "anchors.bias_m", label);
+    if (const cv::FileNode k = f.member(a, "scale", label); !k.empty()) {
+      u.scale = f.number(k, "anchors.scale", label);
+      if (!(u.scale > 0.5 && u.scale < 2.0)) f.fail("anchors.scale", label, "not in (0.5, 2)");
+    }
     anchors.push_back(u);
   }
   return anchors;
@@ -122,7 +127,11 @@ void save_session_config(const SessionConfig& c, const std::string& path) {
   if (!c.anchors.empty()) {
     fs << "anchors" << "[";
     for (const UwbAnchor& a : c.anchors)
-      fs << "{:" << "id" << a.id << "x" << a.p_inW.x() << "y" << a.p_inW.y() << "z" << a.p_inW.z() << "}";
+    {
+      fs << "{:" << "id" << a.id << "x" << a.p_inW.x() << "y" << a.p_inW.y() << "z" << a.p_inW.z();
+      if (a.bias_m != 0.0 || a.scale != 1.0) fs << "bias_m" << a.bias_m << "scale" << a.scale;  // calibrated only
+      fs << "}";
+    }
     fs << "]";
   }
   fs << "imu" << c.imu_file << "frames" << c.frames_file << "uwb" << c.uwb_file << "fixes" << c.fixes_file

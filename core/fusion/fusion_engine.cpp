@@ -115,6 +115,9 @@ void FusionEngine::finish(std::vector<PoseEstimate>& out) {
   // Without a single IMU sample every prediction was constant velocity, whatever --motion.
   stats_.motion = have_imu_ ? to_string(motion_.model()) : "cv (no IMU samples)";
   stats_.steps = motion_.steps();
+  stats_.motion_auto = motion_.model() == MotionModel::pdr && options_.motion.gait_gate;
+  stats_.steps_used = motion_.steps_used();
+  stats_.regime_s = motion_.regime_seconds();
   if (pf_) {
     if (const ParticleFilter::GaitEstimate g = pf_->gait_estimate(); g.valid) {
       stats_.gait_scale = g.scale;
@@ -350,7 +353,11 @@ void FusionEngine::on_uwb(const UwbSample& s, std::vector<PoseEstimate>& out) {
   std::optional<PositionMeasurement> fix = uwb_->fix(s);
   UwbStats& st = uwb_->stats();
   if (uwb_->options().fixes_only) {  // UWB alone: the fix is the pose
-    if (!fix || !fix->z.allFinite()) return;
+    if (!fix || !fix->z.allFinite()) {
+      ++st.no_fix;
+      return;
+    }
+    ++st.fixes_used;
     PoseEstimate p;
     p.t = s.t;
     p.p_BinW = {fix->z.x(), fix->z.y(), device_height_m_};
@@ -369,8 +376,12 @@ void FusionEngine::on_uwb(const UwbSample& s, std::vector<PoseEstimate>& out) {
     // Loose coupling (seed B.3 fix, Gaussian weighting as in seed A, S302), the EKF, and
     // the first fix of a tight run.
     if (fix) {
+      const std::uint64_t gated = stats_.fixes_gated;
       apply_position(*fix);
+      ++(stats_.fixes_gated > gated ? st.fixes_gated : st.fixes_used);
       if (!have_imu_) emit(s.t, out, true);
+    } else {
+      ++st.no_fix;
     }
     return;
   }
@@ -406,6 +417,8 @@ void FusionEngine::on_uwb(const UwbSample& s, std::vector<PoseEstimate>& out) {
     pf_->initialize(fix->z, fix->R * 4.0);
     ++st.reinitializations;
     ++stats_.reinitializations;
+  } else {
+    ++st.underflow;
   }
   if (!have_imu_) emit(s.t, out, true);
 }

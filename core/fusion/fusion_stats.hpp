@@ -1,4 +1,5 @@
 #pragma once
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -27,6 +28,12 @@ struct FusionStats {
   // without the pedestrian model), filled in by finish().
   std::string motion;
   std::uint64_t steps = 0;
+  // `--motion auto` (issue 16): the gait gate was on; the steps it let through (of `steps`
+  // detected) and the seconds predicted in each regime (MotionRegime: cv, strapdown, gait,
+  // still): the motion mode over time.
+  bool motion_auto = false;
+  std::uint64_t steps_used = 0;
+  std::array<double, 4> regime_s{};
   double gait_scale = std::numeric_limits<double>::quiet_NaN();
   double gait_heading_offset_rad = std::numeric_limits<double>::quiet_NaN();
   // Heading in the fusion (core/fusion/heading_feedback.hpp): transfers of the filter's yaw

@@ -8,7 +8,8 @@ MotionSource::MotionSource(const MotionSourceOptions& options)
     : options_(options),
       pdr_(options.pdr),
       gait_(options.gait, options.pdr.detector.min_interval_s),
-      still_(options.still) {}
+      still_(options.still),
+      gate_(options.gate) {}
 
 void MotionSource::update(const ImuSample& s, const Eigen::Matrix3d& R_BtoW) {
   if (!s.acc_inB.allFinite() || !R_BtoW.allFinite()) return;
@@ -26,10 +27,31 @@ void MotionSource::update(const ImuSample& s, const Eigen::Matrix3d& R_BtoW) {
   const double yaw_rate = (R_BtoW * s.gyro_inB).z();
   yaw_rate_ = yaw_rate;
   gait_.update(s.t, a_inW.z(), a_along, yaw_rate);
-  while (const std::optional<Step> step = pdr_.pop_step()) gait_.add_step(*step);
+  while (const std::optional<Step> step = pdr_.pop_step()) {
+    if (gait_confirmed()) {
+      gait_.add_step(*step);
+      ++steps_used_;
+      continue;
+    }
+    if (!(step->interval_s > 0.0)) held_.clear();
+    held_.push_back(*step);
+    if (gate_.add(step->interval_s, step->swing_mps2)) {
+      for (const Step& h : held_) gait_.add_step(h);  // the run of steps that proved the gait
+      steps_used_ += held_.size();
+      held_.clear();
+    } else if (held_.size() > options_.gate.steps) {
+      held_.erase(held_.begin());
+    }
+  }
 }
 
 MotionInput MotionSource::input(TimeNs t0, TimeNs t1) {
+  MotionInput u = input_for(t0, t1);
+  if (valid_ && u.dt > 0.0) regime_s_[static_cast<std::size_t>(regime_)] += u.dt;
+  return u;
+}
+
+MotionInput MotionSource::input_for(TimeNs t0, TimeNs t1) {
   MotionInput u;
   u.dt = ns_to_seconds(t1 - t0);
   if (!valid_) return u;  // no IMU yet: constant velocity

@@ -10,10 +10,13 @@
 //   strapdown  the specific force rotated into the world minus gravity (SEEDS.md B.2, C.2);
 //   cv         nothing from the IMU: constant velocity.
 #include <Eigen/Core>
+#include <array>
+#include <vector>
 #include <limits>
 
 #include "core/filter/motion_model.hpp"
 #include "core/filter/planar_filter.hpp"
+#include "core/imu/gait_gate.hpp"
 #include "core/imu/gait_speed.hpp"
 #include "core/imu/pdr.hpp"
 #include "core/imu/still_detector.hpp"
@@ -37,6 +40,11 @@ struct MotionSourceOptions {
   // still yet: the walker is coming to a stop, the strapdown velocity would be stale.
   double settle_s = 1.0;
   double gravity = 9.80665;
+  // pdr under `--motion auto` (issue 16): steps reach the gait speed only once GaitGate has
+  // seen a gait; until then (a drone, a robot: never) the model is strapdown while moving,
+  // zero velocity while still, and nothing can walk away on vibration.
+  bool gait_gate = false;
+  GaitGateOptions gate;
 };
 
 // What the last input was (pdr: which of its three regimes).
@@ -54,14 +62,24 @@ class MotionSource {
   MotionModel model() const { return options_.model; }
   const PedestrianDeadReckoning& pdr() const { return pdr_; }
   const GaitSpeed& gait() const { return gait_; }
-  std::uint64_t steps() const { return pdr_.step_count(); }
+  std::uint64_t steps() const { return pdr_.step_count(); }          // detected
+  std::uint64_t steps_used() const { return steps_used_; }           // passed the gait gate
   MotionRegime regime() const { return regime_; }
+  // Seconds predicted in each regime (index: MotionRegime), the mode over time in short.
+  const std::array<double, 4>& regime_seconds() const { return regime_s_; }
+  bool gait_confirmed() const { return !options_.gait_gate || gate_.confirmed(); }
 
  private:
+  MotionInput input_for(TimeNs t0, TimeNs t1);
+
   MotionSourceOptions options_;
   PedestrianDeadReckoning pdr_;
   GaitSpeed gait_;
   StillDetector still_;
+  GaitGate gate_;
+  std::vector<Step> held_;  // steps before the gate's verdict (replayed when it confirms)
+  std::array<double, 4> regime_s_{};
+  std::uint64_t steps_used_ = 0;
   MotionRegime regime_ = MotionRegime::cv;
   TimeNs t_last_stepping_ = std::numeric_limits<TimeNs>::min() / 2;
   bool valid_ = false;

@@ -29,6 +29,7 @@ void PedestrianDeadReckoning::add_step(const DetectedStep& d) {
   Step step;
   step.t = d.t;
   step.interval_s = d.interval_s;
+  step.swing_mps2 = d.swing();
   step.length_m = length_.length_m(d);
   step.length_sigma_m = length_.sigma_m(step.length_m);
   // The step spans from the previous heel strike (or one nominal step before, after a stop).

@@ -35,6 +35,7 @@ struct Step {
   double length_sigma_m = 0.0;
   double heading_sigma_rad = 0.0;
   double interval_s = 0.0;         // since the previous step (0 after a stop)
+  double swing_mps2 = 0.0;         // the detector's peak - valley (GaitGate: are steps alike)
 };
 
 class PedestrianDeadReckoning {

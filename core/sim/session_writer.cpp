@@ -139,6 +139,16 @@ void write_sim_truth(const Simulator& sim, const fs::path& p) {
       fs << "{:" << "t_peak_s" << g.t_peak_s << "sigma_s" << g.sigma_s << "delta_ut" << vec(g.delta_ut) << "}";
     fs << "]";
   }
+  // Issue 16: the per-anchor range biases (only when drawn: historic files stay as they were).
+  if (const std::vector<UwbAnchorBias> biases = sim.uwb_biases(); !biases.empty()) {
+    fs << "uwb_anchor_biases" << "[";
+    for (const UwbAnchorBias& b : biases) fs << "{:" << "id" << b.anchor << "bias_m" << b.bias_m << "}";
+    fs << "]";
+    const UwbSimOptions& u = sim.scenario().uwb;
+    if (u.blocked_anchor != 0)
+      fs << "uwb_blocked" << "{" << "anchor" << u.blocked_anchor << "from_s" << u.blocked_from_s << "to_s"
+         << u.blocked_to_s << "}";
+  }
   fs << "led_phases" << "[";
   for (std::size_t i = 0; i < sim.scenario().map.size(); ++i)
     fs << "{:" << "id" << sim.scenario().map.leds()[i].id << "phase_s" << sim.led_phases_s()[i] << "}";

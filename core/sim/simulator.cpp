@@ -92,3 +92,11 @@ std::vector<SimUwbMeasurement> Simulator::uwb_measurements() const {
 }
 
 }  // namespace luxloc::sim
+
+namespace luxloc::sim {
+
+std::vector<UwbAnchorBias> Simulator::uwb_biases() const {
+  return draw_uwb_biases(scenario_.anchors, scenario_.uwb, opt_.seed);
+}
+
+}  // namespace luxloc::sim

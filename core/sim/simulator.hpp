@@ -71,6 +71,8 @@ class Simulator {
 
   // The scenario's UWB measurements (empty without anchors), in time order.
   std::vector<SimUwbMeasurement> uwb_measurements() const;
+  // The per-anchor range biases the measurements carry (empty: none drawn).
+  std::vector<UwbAnchorBias> uwb_biases() const;
 
  private:
   Scenario scenario_;

@@ -8,6 +8,16 @@
 
 namespace luxloc::sim {
 
+std::vector<UwbAnchorBias> draw_uwb_biases(const std::vector<UwbAnchor>& anchors, const UwbSimOptions& o,
+                                           std::uint64_t seed) {
+  std::vector<UwbAnchorBias> out;
+  if (!(o.bias_max_m > o.bias_min_m)) return out;
+  std::mt19937_64 rng = make_rng(seed, RandomStream::uwb_bias);
+  std::uniform_real_distribution<double> u(o.bias_min_m, o.bias_max_m);
+  for (const UwbAnchor& a : anchors) out.push_back({a.id, u(rng)});
+  return out;
+}
+
 std::vector<SimUwbMeasurement> synthesize_uwb(const Trajectory& trajectory, const std::vector<UwbAnchor>& anchors,
                                               const UwbSimOptions& o, double duration_s, std::uint64_t seed) {
   std::vector<SimUwbMeasurement> out;
@@ -16,20 +26,27 @@ std::vector<SimUwbMeasurement> synthesize_uwb(const Trajectory& trajectory, cons
   std::normal_distribution<double> normal(0.0, 1.0);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   std::exponential_distribution<double> bias(1.0 / o.nlos_bias_mean_m);
+  const std::vector<UwbAnchorBias> offsets = draw_uwb_biases(anchors, o, seed);
+  const double n_anchors = static_cast<double>(anchors.size());
   for (std::size_t k = 0;; ++k) {
     const double t = o.offset_s + static_cast<double>(k) / o.rate_hz;
     if (t >= duration_s) break;
-    const BodyState s = trajectory.state(t);
-    for (const UwbAnchor& a : anchors) {
+    for (std::size_t i = 0; i < anchors.size(); ++i) {
+      const UwbAnchor& a = anchors[i];
+      const double t_i = o.stagger ? t + static_cast<double>(i) / (n_anchors * o.rate_hz) : t;
+      if (t_i >= duration_s) break;
+      const BodyState s = trajectory.state(t_i);
       const Eigen::Vector3d d = s.p_BinW - a.p_inW;
       SimUwbMeasurement m;
       m.true_range_m = d.norm();
       // Draw every variable each time, whatever the branch: the stream stays aligned.
       const double n_r = normal(rng), n_a = normal(rng), u = unit(rng), b = bias(rng), n_nlos = normal(rng);
-      m.nlos = u < o.nlos_probability;
-      m.sample.t = seconds_to_ns(t);
+      const bool blocked = a.id == o.blocked_anchor && t_i >= o.blocked_from_s && t_i < o.blocked_to_s;
+      m.nlos = u < o.nlos_probability || blocked;
+      m.sample.t = seconds_to_ns(t_i);
       m.sample.anchor = a.id;
-      m.sample.range_m = std::max(0.0, m.true_range_m + o.range_sigma_m * n_r +
+      const double offset = offsets.empty() ? 0.0 : offsets[i].bias_m;
+      m.sample.range_m = std::max(0.0, m.true_range_m + offset + o.range_sigma_m * n_r +
                                            (m.nlos ? o.nlos_bias_min_m + b : 0.0));
       if (o.with_aoa) {
         const double theta = std::atan2(d.y(), d.x()) + o.aoa_sigma_rad * n_a +

@@ -26,6 +26,22 @@ struct UwbSimOptions {
   double nlos_bias_min_m = 0.3;
   double nlos_bias_mean_m = 0.9;  // of the exponential part
   double nlos_aoa_sigma_rad = 0.3;
+  // Issue 16: ranges as uncalibrated radios deliver them. Each anchor's range is offset by
+  // a bias drawn once per run, uniform in [bias_min_m, bias_max_m] (antenna delay: mostly
+  // short), from a stream of its own; equal bounds draw nothing (the historic sessions).
+  double bias_min_m = 0.0, bias_max_m = 0.0;
+  // One anchor behind an obstacle during [blocked_from_s, blocked_to_s): all its ranges
+  // there are NLOS (0: none).
+  int blocked_anchor = 0;
+  double blocked_from_s = 0.0, blocked_to_s = 0.0;
+  // Two-way ranging takes turns: anchor i of N answers i / (N rate) after the epoch (false:
+  // all anchors at the epoch, the historic timing).
+  bool stagger = false;
+};
+
+struct UwbAnchorBias {
+  int anchor = 0;
+  double bias_m = 0.0;
 };
 
 struct SimUwbMeasurement {
@@ -33,6 +49,10 @@ struct SimUwbMeasurement {
   bool nlos = false;
   double true_range_m = 0.0;
 };
+
+// The per-anchor range biases of a run (empty when the options draw none).
+std::vector<UwbAnchorBias> draw_uwb_biases(const std::vector<UwbAnchor>& anchors, const UwbSimOptions& options,
+                                           std::uint64_t seed);
 
 std::vector<SimUwbMeasurement> synthesize_uwb(const Trajectory& trajectory, const std::vector<UwbAnchor>& anchors,
                                               const UwbSimOptions& options, double duration_s, std::uint64_t seed);

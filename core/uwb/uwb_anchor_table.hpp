@@ -14,7 +14,16 @@ class UwbAnchorTable {
  public:
   UwbAnchorTable() = default;
   explicit UwbAnchorTable(const std::vector<UwbAnchor>& anchors) {
-    for (const UwbAnchor& a : anchors) anchors_[a.id] = a.p_inW;
+    for (const UwbAnchor& a : anchors) {
+      anchors_[a.id] = a.p_inW;
+      if (a.bias_m != 0.0 || a.scale != 1.0) calibrations_[a.id] = a;
+    }
+  }
+  // A measured range with the anchor's calibration (bias_m, scale) removed; as measured
+  // for an uncalibrated anchor.
+  double corrected_range(int id, double measured_m) const {
+    const auto it = calibrations_.find(id);
+    return it == calibrations_.end() ? measured_m : it->second.corrected_range(measured_m);
   }
 
   std::optional<Eigen::Vector3d> find(int id) const {
@@ -34,6 +43,7 @@ class UwbAnchorTable {
 
  private:
   std::map<int, Eigen::Vector3d> anchors_;
+  std::map<int, UwbAnchor> calibrations_;
 };
 
 }  // namespace luxloc

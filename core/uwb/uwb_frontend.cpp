@@ -23,10 +23,12 @@ std::optional<UwbRangeLikelihood> UwbFrontend::likelihood(const UwbSample& s) {
     ++stats_.unknown_anchor;
     return std::nullopt;
   }
-  return UwbRangeLikelihood(*a, z_B_, s.range_m, s.aoa_rad, options_.noise);
+  return UwbRangeLikelihood(*a, z_B_, anchors_.corrected_range(s.anchor, s.range_m), s.aoa_rad, options_.noise);
 }
 
-std::optional<PositionMeasurement> UwbFrontend::fix(const UwbSample& s) {
+std::optional<PositionMeasurement> UwbFrontend::fix(const UwbSample& measured) {
+  UwbSample s = measured;
+  s.range_m = anchors_.corrected_range(s.anchor, s.range_m);
   const std::optional<Eigen::Vector3d> a = anchors_.find(s.anchor);
   if (!a || !std::isfinite(s.range_m) || s.range_m < 0.0) return std::nullopt;
   if (std::isfinite(s.aoa_rad)) {

@@ -23,6 +23,15 @@ struct UwbStats {
   std::uint64_t disagreements = 0;    // tight updates far from the filter's mean
   std::uint64_t fixes = 0;            // position fixes made (B.3 or multilateration)
   std::uint64_t reinitializations = 0;
+  // Issue 16 part 6, what became of each sample; with rejected + unknown_anchor these add up
+  // to samples: weighed + fixes_used + fixes_gated + no_fix + reinitializations + underflow.
+  std::uint64_t fixes_used = 0;    // position fixes the filter took (loose, the EKF, the first fix, --uwb-alone)
+  std::uint64_t fixes_gated = 0;   // position fixes the filter's gate refused
+  std::uint64_t no_fix = 0;        // not weighed alone and no fix completed with it (yet)
+  std::uint64_t underflow = 0;     // every particle's weight underflowed and no fix to recover at
+  std::uint64_t accounted() const {
+    return unknown_anchor + rejected + weighed + fixes_used + fixes_gated + no_fix + reinitializations + underflow;
+  }
 };
 
 class UwbFrontend {
