@@ -19,12 +19,13 @@ WalkerDraw draw_walker(std::uint64_t seed, double duration_s) {
   w.step_length_m = w.speed_mps / w.step_hz;
   w.corner_sigma_m = uniform(0.3, 1.0);
   w.speed_modulation = uniform(0.05, 0.20);
-  // The vertical bounce follows the step (an inverted pendulum rises with the square of the
-  // step over the leg): the default walker's 1.5 cm at 0.69 m steps, scaled by (L / 0.69)^2,
-  // times a person-to-person factor 0.7-1.3. (Drawn independently of L, a 0.35 m step could
-  // bounce like a 0.8 m one: no walker does, and no step-length model could follow.)
+  // The vertical bounce grows with the step: the default walker's 1.5 cm at 0.69 m steps,
+  // in proportion to the step, times a person-to-person factor 0.7-1.3, at least 0.8 cm (a
+  // hand-held device bounces with the arm as well). Drawn apart from the step, a 0.35 m step
+  // could bounce like a 0.8 m one, which no step-length model can follow; with the square of
+  // the step (an inverted pendulum) short steps fell below any step detector's threshold.
   const double rel = w.step_length_m / 0.694;
-  w.bounce_m = std::clamp(0.015 * rel * rel * uniform(0.7, 1.3), 0.004, 0.04);
+  w.bounce_m = std::clamp(0.015 * rel * uniform(0.7, 1.3), 0.008, 0.035);
   w.sway_scale = uniform(0.5, 2.0);
   // Stand 2 s, then walks of 10-30 s separated by stops of 1-10 s (standing time between
   // the ramps), the last walk to the end.

@@ -5,8 +5,8 @@
 // sim_truth.yaml (`walker:`), so a failing session can be reproduced and understood:
 //   step length 0.35-0.85 m and cadence 1.4-2.2 Hz (speed = length x cadence, capped at
 //   1.8 m/s: issue 12's ranges), corner rounding 0.3-1.0 m (sharp to sweeping turns),
-//   speed modulation per step 5-20 %, vertical bounce 1.5 cm x (step / 0.69 m)^2 x 0.7-1.3
-//   (0.4-4 cm: it grows with the step, as an inverted pendulum's), sway 0.5-2x the default,
+//   speed modulation per step 5-20 %, vertical bounce 1.5 cm x (step / 0.69 m) x 0.7-1.3
+//   (0.8-3.5 cm: it grows with the step), sway 0.5-2x the default,
 //   and stops of 1-10 s every 10-30 s of walking.
 // Not drawn (yet): speed drifting within a session, turning on the spot, side steps, a
 // device swinging in the hand.
