@@ -146,8 +146,7 @@ FusionEngine::HeadingState FusionEngine::heading_state() {
   return h;
 }
 
-void FusionEngine::feed_back_heading(TimeNs t) {
-  const HeadingState h = heading_state();
+void FusionEngine::feed_back_heading(TimeNs t, const HeadingState& h) {
   const std::optional<HeadingFeedback::Transfer> tr = heading_feedback_.update(t, h.offset_rad, h.sigma_rad);
   if (!tr) return;
   ahrs_.correct_heading(tr->dyaw_rad, tr->drate_rps);
@@ -283,7 +282,7 @@ void FusionEngine::apply_frame(const DecodedFrame& f) {
           const double d = std::remainder(now.offset_rad - y->offset_rad, 2.0 * 3.14159265358979323846);
           if (std::abs(d) <= 3.0 * std::hypot(y->sigma_rad, std::isfinite(now.sigma_rad) ? now.sigma_rad : 0.0)) {
             ++stats_.camera_yaw_used;
-            feed_back_heading(f.t_obs);
+            feed_back_heading(f.t_obs, now);
           } else {
             ++stats_.camera_yaw_rejected;
           }
@@ -308,7 +307,7 @@ void FusionEngine::apply_frame(const DecodedFrame& f) {
     if (const std::optional<YawMeasurement> y = vlc_->yaw_offset(f, R_BtoW)) {
       if (heading_observer_->correct(*y)) {
         ++stats_.camera_yaw_used;
-        feed_back_heading(f.t_obs);
+        feed_back_heading(f.t_obs, heading_state());
       } else {
         ++stats_.camera_yaw_rejected;
       }

@@ -69,8 +69,9 @@ class FusionEngine final : public FusionStage {
     double sigma_rad = std::numeric_limits<double>::quiet_NaN();
   };
   HeadingState heading_state();
-  // Moves a well-determined offset into the AHRS (HeadingFeedback) at time t.
-  void feed_back_heading(TimeNs t);
+  // Moves the offset `h` (heading_state() now: the caller has it already, one pass over
+  // the particles less) into the AHRS when it is well determined (HeadingFeedback), at t.
+  void feed_back_heading(TimeNs t, const HeadingState& h);
   // Seconds since the heading was last fixed (drift clock of the yaw offset).
   double heading_drift_s(TimeNs t) const;
   // R_BtoW with the fused yaw: Rz(offset) R_ahrs.
