@@ -180,7 +180,13 @@ SessionRecorder::~SessionRecorder() {
 
 void SessionRecorder::process(const Sample& sample, std::vector<PoseEstimate>&) {
   if (writer_->stopped.load(std::memory_order_relaxed)) return;  // a write failed: recording is over
-  SensorData copy = sample.data;  // cv::Mat shares the pixels: no image copy
+  SensorData copy = sample.data;
+  // A frame's pixels are cloned (0.3 MB per VGA frame, one memcpy): the writer thread then
+  // owns a buffer no other thread touches. Shared, the buffer's last release falls to
+  // whichever thread drops it last, through OpenCV's refcount in its uninstrumented library;
+  // CI's ThreadSanitizer run reported a race in the record test that we could not reproduce
+  // here, and the shared buffer is the only memory both threads reach.
+  if (auto* frame = std::get_if<FrameSample>(&copy)) frame->gray = frame->gray.clone();
   if (!queue_.try_push(std::move(copy))) {
     static constexpr const char* kNames[] = {"imu.csv", "frames.csv", "uwb.csv", "fixes.csv", "odom.csv"};
     ++dropped_[kNames[sample.data.index()]];

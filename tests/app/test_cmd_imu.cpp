@@ -101,7 +101,8 @@ TEST_CASE("luxloc imu --source serial-imu: live WitMotion through a pty, the wri
     r = test::run_luxloc("imu --source 'serial-imu:" + pty.b() + ",baud=460800,protocol=witmotion' --out '" +
                          out.string() + "'");
   });
-  std::this_thread::sleep_for(std::chrono::milliseconds(500));  // let luxloc open the port
+  CHECK(pty.wait_b_opened(std::chrono::seconds(30)));  // luxloc has opened the port (no REQUIRE: `run` must be joined)
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));  // and set it up (its tcflush drops older bytes)
   {
     SerialPort writer(pty.a(), 460800);
     std::vector<std::uint8_t> bytes;

@@ -68,6 +68,31 @@ class SocatPair {
     pid_ = -1;
   }
 
+  // Waits (up to timeout) until a process other than socat and this one holds b() open:
+  // the program under test has opened the port. A fixed sleep instead loses the bytes
+  // written before the open when the machine is loaded (sanitizer builds on 2 cores).
+  bool wait_b_opened(std::chrono::milliseconds timeout) const {
+    std::error_code ec;
+    const std::filesystem::path target = std::filesystem::canonical(b(), ec);
+    if (ec) return false;
+    const auto end = std::chrono::steady_clock::now() + timeout;
+    while (std::chrono::steady_clock::now() < end) {
+      for (const auto& proc : std::filesystem::directory_iterator("/proc", ec)) {
+        const std::string name = proc.path().filename().string();
+        if (name.empty() || name.find_first_not_of("0123456789") != std::string::npos) continue;
+        const pid_t pid = static_cast<pid_t>(std::stol(name));
+        if (pid == pid_ || pid == ::getpid()) continue;
+        std::error_code fec;
+        for (const auto& fd : std::filesystem::directory_iterator(proc.path() / "fd", fec)) {
+          std::error_code lec;
+          if (std::filesystem::read_symlink(fd.path(), lec) == target) return true;
+        }
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return false;
+  }
+
   // Waits (up to timeout) for socat to exit by itself; true when it did.
   bool wait_exit(std::chrono::milliseconds timeout) {
     const auto end = std::chrono::steady_clock::now() + timeout;
