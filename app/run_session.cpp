@@ -25,6 +25,7 @@
 #include <cstdio>
 #include "plugins/playback/playback_session.hpp"
 #include "plugins/record/session_recorder.hpp"
+#include "core/vlc/led_visibility.hpp"
 #include "core/pipeline/tee_stage.hpp"
 #include "plugins/external/external_plugin.hpp"
 #include "plugins/live_sources.hpp"
@@ -355,6 +356,11 @@ OpenedSources open_run_sources(const RunConfig& c) {
   }
   if (!session.map) session.map = std::move(live_defaults.map);
   if (!session.camera) session.camera = std::move(live_defaults.camera);
+  if (session.map && session.camera)  // SPEC.md: no two LEDs of one frequency class in one view
+    check_frequency_reuse(*session.map, *session.camera, session.config.device_height_m,
+                          !c.map.empty() ? c.map
+                          : !playback_dirs.empty() ? (std::filesystem::path(playback_dirs.front()) / session.config.ledmap_file).string()
+                                                   : std::string("the source's LED map"));
   o.live = !live.empty();
   for (auto& s : live) session.sources.push_back(std::move(s));
 

@@ -44,18 +44,70 @@ LedMap::LedMap(std::vector<Led> leds, std::string origin, const LedMapOptions& o
       throw InputError(origin, 0, "half_power_angle_deg", label + ": must be in (0, 90)");
     if (!(l.power > 0.0)) throw InputError(origin, 0, "power", label + ": must be > 0");
   }
-  for (std::size_t i = 0; i < leds_.size(); ++i)
-    for (std::size_t j = i + 1; j < leds_.size(); ++j) {
-      const double a = leds_[i].freq_hz, b = leds_[j].freq_hz;
-      const double rel = std::abs(a - b) / std::min(a, b);
-      if (rel < options.min_relative_separation) {
+  build_classes(origin, options);
+}
+
+void LedMap::build_classes(const std::string& origin, const LedMapOptions& options) {
+  // Sorted by frequency, neighbours either are copies (within same_class_tolerance of the
+  // class's first member) or are separable (min_relative_separation); anything between is
+  // a map the decoder would misread. O(n log n), for maps of thousands of LEDs.
+  std::vector<int> order(leds_.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return leds_[a].freq_hz < leds_[b].freq_hz; });
+  class_of_.assign(leds_.size(), -1);
+  classes_.clear();
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    const Led& l = leds_[static_cast<std::size_t>(order[k])];
+    if (!classes_.empty()) {
+      const FrequencyClass& last = classes_.back();
+      const Led& first = leds_[static_cast<std::size_t>(last.members.front())];
+      const double rel = (l.freq_hz - first.freq_hz) / first.freq_hz;
+      if (rel <= options.same_class_tolerance) {
+        classes_.back().members.push_back(order[k]);
+        continue;
+      }
+      const Led& prev = leds_[static_cast<std::size_t>(order[k - 1])];
+      const double gap = (l.freq_hz - prev.freq_hz) / prev.freq_hz;
+      if (gap < options.min_relative_separation) {
         std::ostringstream s;
-        s << "LED id " << leds_[j].id << " (" << b << " Hz) and LED id " << leds_[i].id << " (" << a
-          << " Hz) differ by " << rel * 100 << " %, closer than the decoder can tell apart (needs >= "
-          << options.min_relative_separation * 100 << " %)";
+        s << "LED id " << l.id << " (" << l.freq_hz << " Hz) and LED id " << prev.id << " (" << prev.freq_hz
+          << " Hz) differ by " << gap * 100 << " %, closer than the decoder can tell apart (needs >= "
+          << options.min_relative_separation * 100 << " %; copies of one frequency must agree within "
+          << options.same_class_tolerance * 100 << " %)";
         throw InputError(origin, 0, "freq_hz", s.str());
       }
     }
+    classes_.push_back({});
+    classes_.back().members.push_back(order[k]);
+  }
+  min_reuse_distance_m_ = std::numeric_limits<double>::infinity();
+  for (std::size_t c = 0; c < classes_.size(); ++c) {
+    FrequencyClass& fc = classes_[c];
+    double f = 0.0, z = 0.0;
+    for (int i : fc.members) {
+      class_of_[static_cast<std::size_t>(i)] = static_cast<int>(c);
+      f += leds_[static_cast<std::size_t>(i)].freq_hz;
+      z += leds_[static_cast<std::size_t>(i)].p_inW.z();
+    }
+    fc.freq_hz = f / static_cast<double>(fc.members.size());
+    fc.mean_z = z / static_cast<double>(fc.members.size());
+    // Pairwise within a class: classes are small (a reused frequency has tens of copies).
+    for (std::size_t a = 0; a < fc.members.size(); ++a)
+      for (std::size_t b = a + 1; b < fc.members.size(); ++b)
+        min_reuse_distance_m_ = std::min(min_reuse_distance_m_,
+                                         (leds_[static_cast<std::size_t>(fc.members[a])].p_inW.head<2>() -
+                                          leds_[static_cast<std::size_t>(fc.members[b])].p_inW.head<2>())
+                                             .norm());
+  }
+  if (!leds_.empty()) {
+    bounds_ << leds_[0].p_inW.x(), leds_[0].p_inW.y(), leds_[0].p_inW.x(), leds_[0].p_inW.y();
+    for (const Led& l : leds_) {
+      bounds_[0] = std::min(bounds_[0], l.p_inW.x());
+      bounds_[1] = std::min(bounds_[1], l.p_inW.y());
+      bounds_[2] = std::max(bounds_[2], l.p_inW.x());
+      bounds_[3] = std::max(bounds_[3], l.p_inW.y());
+    }
+  }
 }
 
 LedMap LedMap::load(const std::string& path, const LedMapOptions& options) {
@@ -108,28 +160,35 @@ const Led* LedMap::find_id(int id) const {
 
 LedMap::FrequencyMatch LedMap::match_frequency(double f_hz, double rel_tolerance) const {
   FrequencyMatch m;
+  // Binary search in the sorted class frequencies: the best and runner-up are the two
+  // neighbours of f (or one of them and the next one out).
+  const auto it = std::lower_bound(classes_.begin(), classes_.end(), f_hz,
+                                   [](const FrequencyClass& c, double f) { return c.freq_hz < f; });
+  const auto first = static_cast<std::ptrdiff_t>(it - classes_.begin());
   int best = -1;
-  for (std::size_t i = 0; i < leds_.size(); ++i) {
-    const double e = std::abs(f_hz - leds_[i].freq_hz) / leds_[i].freq_hz;
+  for (std::ptrdiff_t k = std::max<std::ptrdiff_t>(0, first - 2);
+       k < std::min<std::ptrdiff_t>(static_cast<std::ptrdiff_t>(classes_.size()), first + 2); ++k) {
+    const double e = std::abs(f_hz - classes_[static_cast<std::size_t>(k)].freq_hz) / classes_[static_cast<std::size_t>(k)].freq_hz;
     if (e < m.rel_error) {
       m.runner_up = m.rel_error;
       m.rel_error = e;
-      best = static_cast<int>(i);
+      best = static_cast<int>(k);
     } else if (e < m.runner_up) {
       m.runner_up = e;
     }
   }
-  m.index = (best >= 0 && m.rel_error <= rel_tolerance) ? best : -1;
+  if (best >= 0 && m.rel_error <= rel_tolerance) {
+    m.klass = best;
+    const FrequencyClass& c = classes_[static_cast<std::size_t>(best)];
+    m.index = c.members.size() == 1 ? c.members.front() : -1;
+  }
   return m;
 }
 
 double LedMap::min_relative_separation() const {
   double best = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < leds_.size(); ++i)
-    for (std::size_t j = i + 1; j < leds_.size(); ++j) {
-      const double a = leds_[i].freq_hz, b = leds_[j].freq_hz;
-      best = std::min(best, std::abs(a - b) / std::min(a, b));
-    }
+  for (std::size_t k = 1; k < classes_.size(); ++k)
+    best = std::min(best, (classes_[k].freq_hz - classes_[k - 1].freq_hz) / classes_[k - 1].freq_hz);
   return best;
 }
 

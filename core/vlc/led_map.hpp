@@ -1,6 +1,10 @@
 #pragma once
 // The LED map (SPEC.md "LED map"): id, blink frequency and world position of each
-// ceiling LED. The frequency is the LED's identity (SEEDS.md A, S202).
+// ceiling LED. The frequency identifies a *frequency class* (SEEDS.md A, S202): a room map
+// gives every LED a class of its own; a building map reuses frequencies (issue 14), and
+// the LEDs of one class are told apart by position (the filter's association,
+// core/vlc/led_association.hpp), which needs them far enough apart that the camera never
+// sees two at once (core/vlc/led_visibility.hpp checks that against a camera).
 #include <Eigen/Core>
 #include <string>
 #include <vector>
@@ -19,8 +23,20 @@ struct Led {
 
 struct LedMapOptions {
   // Two LEDs whose frequencies differ by less than this relative amount cannot be told
-  // apart by the stripe decoder; such a map is rejected.
+  // apart by the stripe decoder; such a map is rejected, unless they are copies.
   double min_relative_separation = 0.02;
+  // Frequencies within this relative amount are copies of one class (frequency reuse).
+  // 0.1 %: a twentieth of the separation, well inside the decoder's period resolution, so
+  // a copy and a distinct class can never be confused; a gap between the two limits is
+  // rejected as neither.
+  double same_class_tolerance = 0.001;
+};
+
+// The LEDs sharing one frequency (one member in a map without reuse).
+struct FrequencyClass {
+  double freq_hz = 0.0;       // mean of the members' frequencies
+  std::vector<int> members;   // indices into LedMap::leds()
+  double mean_z = 0.0;        // mean ceiling height of the members (association ray plane)
 };
 
 class LedMap {
@@ -41,18 +57,36 @@ class LedMap {
   const Led* find_id(int id) const;
 
   struct FrequencyMatch {
-    int index = -1;            // into leds(), -1 when no LED within tolerance
+    int klass = -1;            // into classes(), -1 when no class within tolerance
+    int index = -1;            // into leds(): the class's LED when it has one member, else -1
     double rel_error = 1e9;    // |f - f_led| / f_led of the best candidate
     double runner_up = 1e9;    // same for the second best (ambiguity margin)
   };
-  // Nearest LED by relative frequency error; index = -1 if beyond rel_tolerance.
+  // Nearest frequency class by relative frequency error: `klass` = -1 if beyond
+  // rel_tolerance; `index` = the LED when the class has a single member, else -1 (a reused
+  // frequency: the position tells which copy).
   FrequencyMatch match_frequency(double f_hz, double rel_tolerance) const;
 
-  // Smallest relative gap between any two frequencies (inf for < 2 LEDs).
+  // Smallest relative gap between two frequency classes (inf for < 2 classes).
   double min_relative_separation() const;
 
+  const std::vector<FrequencyClass>& classes() const { return classes_; }
+  int class_of(std::size_t led_index) const { return class_of_[led_index]; }
+  // True when some frequency is shared by two or more LEDs.
+  bool reuses_frequencies() const { return classes_.size() < leds_.size(); }
+  // Smallest horizontal distance between two LEDs of one class (inf without reuse).
+  double min_reuse_distance_m() const { return min_reuse_distance_m_; }
+  // Floor-plane bounding box of the LEDs (x0, y0, x1, y1).
+  Eigen::Vector4d bounds() const { return bounds_; }
+
  private:
+  void build_classes(const std::string& origin, const LedMapOptions& options);
+
   std::vector<Led> leds_;
+  std::vector<FrequencyClass> classes_;
+  std::vector<int> class_of_;
+  double min_reuse_distance_m_ = 0.0;
+  Eigen::Vector4d bounds_ = Eigen::Vector4d::Zero();
 };
 
 }  // namespace luxloc

@@ -463,14 +463,15 @@ std::vector<LedObservation> StripeDecoder::decode(const cv::Mat& input) const {
     } else {
       const LedMap::FrequencyMatch mt = map_.match_frequency(obs.freq_hz, tol);
       const double sigma_rel = obs.period_sigma_rows / obs.period_rows;
-      if (mt.index < 0) {
+      if (mt.klass < 0) {
         obs.reject_reason = "no map match";
       } else if (mt.runner_up < o.ambiguity_ratio * mt.rel_error ||
                  sigma_rel > o.max_sigma_fraction * (mt.runner_up - mt.rel_error)) {
         obs.reject_reason = "ambiguous frequency";
       } else {
-        obs.led_index = mt.index;
-        obs.led_id = map_.leds()[static_cast<std::size_t>(mt.index)].id;
+        obs.freq_class = mt.klass;
+        obs.led_index = mt.index;  // -1 for a reused frequency
+        obs.led_id = mt.index >= 0 ? map_.leds()[static_cast<std::size_t>(mt.index)].id : -1;
         // Confidence: geometric mean of the periodic fit quality, the closeness of the
         // match and the frequency's certainty, each relative to its acceptance limit.
         const double q_fit = clamp01((est.explained - o.min_explained) / (1.0 - o.min_explained));
@@ -481,7 +482,8 @@ std::vector<LedObservation> StripeDecoder::decode(const cv::Mat& input) const {
         // row's on-fraction is the LED's duty whatever the exposure, so the mean row level
         // there is the always-on level times the duty; the blob's chord-weighted mean over
         // that level is its on-fraction (different from the duty by the partial period).
-        const double duty = map_.leds()[static_cast<std::size_t>(mt.index)].duty;
+        const double duty =
+            map_.leds()[static_cast<std::size_t>(map_.classes()[static_cast<std::size_t>(mt.klass)].members.front())].duty;
         const double whole = whole_period_mean(S.raw, S.weight, obs.period_rows);
         if (whole > 0 && chord_sum > 0)
           obs.on_fraction = std::clamp(duty * (on_num / chord_sum) / whole, 1e-3, 1.0);
