@@ -130,6 +130,35 @@ void ParticleFilter::initialize(const Eigen::Vector2d& p, const Eigen::Matrix2d&
   compute_moments();
 }
 
+void ParticleFilter::initialize_uniform(const Eigen::AlignedBox2d& region, std::size_t n) {
+  if (region.isEmpty() || !region.min().allFinite() || !region.max().allFinite()) return;
+  n = std::clamp<std::size_t>(n, 10, std::numeric_limits<std::uint32_t>::max());
+  set_.heading = options_.heading.enabled;
+  set_.resize(n);
+  origin_ = region.center();
+  const Eigen::Vector2d size = region.sizes();
+  const double sv = options_.init_speed_sigma;
+  const std::uint64_t step = ++step_;
+  for_each_particle_chunk(n, [&](std::size_t c, std::size_t b, std::size_t e) {
+    FastRng rng = FastRng::stream(options_.seed, step, 0x610BA1ull + c);
+    for (std::size_t i = b; i < e; ++i) {
+      set_.x[i] = static_cast<float>((rng.uniform() - 0.5) * size.x());
+      set_.y[i] = static_cast<float>((rng.uniform() - 0.5) * size.y());
+      set_.vx[i] = static_cast<float>(sv * rng.normal());
+      set_.vy[i] = static_cast<float>(sv * rng.normal());
+    }
+  });
+  if (set_.gait) draw_gait_prior(++step_);
+  if (set_.heading) draw_heading_prior(++step_);
+  pending_yaw_var_ = 0.0;
+  reset_weights_uniform();
+  averages_.reset();
+  consecutive_rejections_ = 0;
+  initialized_ = true;
+  ref_x_ = ref_y_ = 0.0f;
+  compute_moments();
+}
+
 void ParticleFilter::draw_gait_prior(std::uint64_t step) {
   const float s_k = static_cast<float>(options_.gait.scale_sigma0);
   const float s_d = static_cast<float>(options_.gait.heading_offset_sigma0);
@@ -637,6 +666,15 @@ void ParticleFilter::resample_copy() {
     });
     resample(options_.scheme, w, FastRng::stream(options_.seed, step, 0xA11CEull).next(), ancestors_, children);
   };
+  // A global set (initialize_uniform) keeps its size until one hypothesis is left: 0.5 m,
+  // a tenth of a reuse distance, where a second copy's cluster can no longer hide in it.
+  if (!options_.kld.enabled && n > options_.particles) {
+    constexpr double kConvergedSigmaM = 0.5;
+    if (estimate().cov_p.trace() < 2.0 * kConvergedSigmaM * kConvergedSigmaM) m = options_.particles;
+    draw(m);
+    gather(step);
+    return;
+  }
   draw(n);
   if (options_.kld.enabled) {
     // KLD-sampling: bins occupied by the drawn ancestors decide the next set's size.

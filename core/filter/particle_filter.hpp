@@ -12,6 +12,7 @@
 // unnormalised with one scalar normaliser, so normalising costs O(chunks), not a log per
 // particle; the estimate is folded into those passes, or computed on demand.
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cstdint>
 #include <vector>
 
@@ -66,6 +67,13 @@ class ParticleFilter final : public PlanarFilter {
   explicit ParticleFilter(const ParticleFilterOptions& options = {});
 
   void initialize(const Eigen::Vector2d& p, const Eigen::Matrix2d& cov_p) override;
+  // Global localisation (issue 14): n particles uniform over `region`, zero-mean velocity,
+  // the gait and heading priors as initialize(). Without KLD-sampling the set keeps n
+  // until its spread has shrunk below converged_sigma_m (one hypothesis left), then the
+  // next resampling draws options().particles.
+  void initialize_uniform(const Eigen::AlignedBox2d& region, std::size_t n);
+  // True while a global set (initialize_uniform) has not yet converged.
+  bool localising() const { return set_.size() > options_.particles && !options_.kld.enabled; }
   bool initialized() const override { return initialized_; }
   void predict(const MotionInput& u) override;
   CorrectionResult correct(const PositionMeasurement& m) override;

@@ -255,11 +255,21 @@ void FusionEngine::apply_frame(const DecodedFrame& f) {
     return;
   }
   const Eigen::Matrix3d R_BtoW = ahrs_.R_BtoW();
+  // Frequency reuse without a start: no LED of a frequency of its own in view, so no
+  // loose fix can start the filter; the particles start everywhere (global localisation).
+  if (pf_ && !pf_->initialized() && options_.tight_coupling && vlc_->reuses_frequencies()) {
+    if (!vlc_->fix(f, fused_R_BtoW())) {
+      start_global(f.t_obs);
+      ++stats_.global_starts;
+    }
+  }
   if (pf_ && pf_->initialized() && options_.tight_coupling) {
-    // Tight coupling: weigh every particle by the reprojection error of every LED.
+    // Tight coupling: weigh every particle by the reprojection error of every LED (each
+    // particle picks the copies of reused frequencies its own pose points at).
     const ReprojectionLikelihood lik = vlc_->likelihood(f, R_BtoW);
     if (lik.size() == 0) return;
     ++stats_.vlc_fixes;
+    for (std::size_t i = 0; i < lik.size(); ++i) stats_.reused_blobs += lik.term(i).klass >= 0 ? 1 : 0;
     // Gate: the mean particle's reprojection error, in metres at the ceiling distance,
     // against the filter's spread. Persistent disagreement means the filter lost track.
     // The yaw offset's spread moves the LEDs too: by sigma_yaw times their distance.
@@ -272,12 +282,16 @@ void FusionEngine::apply_frame(const DecodedFrame& f) {
       ++stats_.fixes_accepted;
       consecutive_gated_ = 0;
       t_last_fix_ = f.t_obs;
+      if (t_global_start_ && !pf_->localising()) {  // the global set has gathered on one copy
+        if (!std::isfinite(stats_.global_converged_s)) stats_.global_converged_s = ns_to_seconds(f.t_obs - *t_global_start_);
+        t_global_start_.reset();
+      }
       // Only a frame that sees the heading directly (two or more LEDs) may move it into
       // the AHRS, and only when the particles' offset agrees with that frame's own yaw
       // (VlcFrontend::yaw_offset, 3 sigma): one LED ties yaw to position, and a cloud that
       // collapsed onto a wrong yaw-position pair would teach the AHRS a wrong yaw and bias.
-      if (lik.size() >= 2) {
-        if (const std::optional<YawMeasurement> y = vlc_->yaw_offset(f, R_BtoW)) {
+      if (lik.size() >= 2 && !pf_->localising()) {
+        if (const std::optional<YawMeasurement> y = vlc_->yaw_offset(f, R_BtoW, pose_hint(heading_state().offset_rad))) {
           const HeadingState now = heading_state();
           const double d = std::remainder(now.offset_rad - y->offset_rad, 2.0 * 3.14159265358979323846);
           if (std::abs(d) <= 3.0 * std::hypot(y->sigma_rad, std::isfinite(now.sigma_rad) ? now.sigma_rad : 0.0)) {
@@ -292,8 +306,15 @@ void FusionEngine::apply_frame(const DecodedFrame& f) {
     }
     ++stats_.fixes_gated;
     if (++consecutive_gated_ < options_.pf.max_consecutive_rejections) return;
-    // Lost: fall through to a loose fix, which re-initialises the filter.
+    // Lost: fall through to a loose fix, which re-initialises the filter; in a reuse map
+    // with no LED of its own frequency in view, the restart is global (kidnapping).
     consecutive_gated_ = 0;
+    if (vlc_->reuses_frequencies() && !vlc_->fix(f, fused_R_BtoW())) {
+      start_global(f.t_obs);
+      ++stats_.global_restarts;
+      ++stats_.reinitializations;
+      return;
+    }
     if (std::optional<PositionMeasurement> m = vlc_->fix(f, fused_R_BtoW())) {
       pf_->initialize(m->z, m->R * 4.0);
       ++stats_.reinitializations;
@@ -304,7 +325,7 @@ void FusionEngine::apply_frame(const DecodedFrame& f) {
   // EKF / loose coupling: the camera's direct yaw (two or more LEDs) corrects the heading
   // observer, then the fix is made with the fused yaw.
   if (heading_observer_) {
-    if (const std::optional<YawMeasurement> y = vlc_->yaw_offset(f, R_BtoW)) {
+    if (const std::optional<YawMeasurement> y = vlc_->yaw_offset(f, R_BtoW, pose_hint(heading_state().offset_rad))) {
       if (heading_observer_->correct(*y)) {
         ++stats_.camera_yaw_used;
         feed_back_heading(f.t_obs, heading_state());
@@ -313,10 +334,30 @@ void FusionEngine::apply_frame(const DecodedFrame& f) {
       }
     }
   }
-  std::optional<PositionMeasurement> m = vlc_->fix(f, fused_R_BtoW());
+  std::optional<PositionMeasurement> m = vlc_->fix(f, fused_R_BtoW(), pose_hint(0.0));
   if (!m) return;
   ++stats_.vlc_fixes;
   apply_position(*m);
+}
+
+void FusionEngine::start_global(TimeNs t) {
+  const Eigen::Vector4d b = vlc_->map().bounds();
+  Eigen::AlignedBox2d region(Eigen::Vector2d(b[0], b[1]), Eigen::Vector2d(b[2], b[3]));
+  region.min() -= Eigen::Vector2d::Constant(1.0);  // a camera sees LEDs up to ~1 m beyond the outer row
+  region.max() += Eigen::Vector2d::Constant(1.0);
+  if (!filter_->initialized()) t_filter_ = have_imu_ ? t_imu_ : t;
+  pf_->initialize_uniform(region, options_.global_particles);
+  t_global_start_ = t;
+}
+
+std::optional<PoseHint> FusionEngine::pose_hint(double yaw_offset_rad) {
+  if (!filter_->initialized()) return std::nullopt;
+  const PlanarEstimate e = filter_->estimate();
+  if (!e.p.allFinite() || !e.cov_p.allFinite()) return std::nullopt;
+  // The larger axis of the covariance (its largest eigenvalue, closed form for 2x2).
+  const double tr = e.cov_p.trace(), det = e.cov_p.determinant();
+  const double l_max = 0.5 * tr + std::sqrt(std::max(0.0, 0.25 * tr * tr - det));
+  return PoseHint{e.p, yaw_offset_rad, std::sqrt(std::max(0.0, l_max))};
 }
 
 void FusionEngine::on_fix(const FixSample& s, std::vector<PoseEstimate>& out) {
@@ -488,7 +529,8 @@ void FusionEngine::emit(TimeNs t, std::vector<PoseEstimate>& out, bool force) {
   }
   if (t_last_reinit_ && ns_to_seconds(t - *t_last_reinit_) < 1.0)
     p.mode = "re-initialised";
-  else if (consecutive_gated_ >= kLostAfterGated || uwb_disagreements_ >= kLostAfterGated)
+  else if (consecutive_gated_ >= kLostAfterGated || uwb_disagreements_ >= kLostAfterGated ||
+           (pf_ && pf_->localising()))  // a global search over a reuse map: not found yet
     p.mode = "lost";
   else
     p.mode = ns_to_seconds(t - t_last_fix_) < 1.0 ? "tracking" : "dead-reckoning";

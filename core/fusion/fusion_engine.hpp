@@ -61,6 +61,10 @@ class FusionEngine final : public FusionStage {
   void on_uwb(const UwbSample& s, std::vector<PoseEstimate>& out);
   void on_vo_frame(const FrameSample& s);
   void apply_frame(const DecodedFrame& f);
+  // Frequency reuse (issue 14): particles over the whole map (+1 m).
+  void start_global(TimeNs t);
+  // The filter's estimate as an association hint for the single-hypothesis paths.
+  std::optional<PoseHint> pose_hint(double yaw_offset_rad);
   void apply_position(const PositionMeasurement& m);
   void predict_to(TimeNs t);
   // The filter's yaw offset of the AHRS now (PF: particle mean; EKF path: the observer).
@@ -92,6 +96,7 @@ class FusionEngine final : public FusionStage {
   double ceiling_distance_m_ = 2.0;
   double focal_px_ = 500.0;
   int consecutive_gated_ = 0;
+  std::optional<TimeNs> t_global_start_;  // the running global localisation began
   double vlc_ceiling_distance() const { return ceiling_distance_m_; }
   double vlc_focal_px() const { return focal_px_; }
   std::unique_ptr<VlcFrontend> vlc_;

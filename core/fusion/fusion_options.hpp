@@ -56,6 +56,15 @@ struct FusionOptions {
   // the field's own error (2-3 deg): the drift clock of the yaw offset stops at this many
   // seconds (0.2 deg/s x 10 s = 2 deg, HeadingNoise::bias_sigma_rps).
   double mag_bounded_drift_s = 10.0;
+  // Global localisation in a map that reuses frequencies (issue 14): with no start and no
+  // LED of a frequency of its own in view, the particle filter starts with this many
+  // particles uniform over the map's extent (plus 1 m) and drops to pf.particles once they
+  // gather on one hypothesis; also the restart after a lost track (kidnapping). 60000:
+  // one particle per 0.17 m x 0.17 m of a 60 m x 30 m floor, inside the ~0.1 m wide core of
+  // one LED's reprojection likelihood at 2 m (5 px at 460 px focal length) from the
+  // nearest particle, chosen on simulator seeds 1-5 of the floor plan (20 000 lost the
+  // right copy on 2 of 5 starts).
+  std::size_t global_particles = 60000;
   // Pixel noise of a decoded LED centre (1 sigma) for the fix covariance.
   double vlc_pixel_sigma = 1.0;
   // Attitude uncertainty (1 sigma, rad) folded into the VLC fix covariance.

@@ -43,6 +43,12 @@ struct FusionStats {
   double heading_learnt_rate_rps = 0.0;
   std::uint64_t camera_yaw_used = 0, camera_yaw_rejected = 0;
   double sigma_yaw_rad = std::numeric_limits<double>::quiet_NaN();
+  // Frequency reuse (issue 14): blobs of a reused frequency (the filter chose the copy),
+  // global starts (particles over the whole map: no start, no unique LED in view) and
+  // global restarts after a lost track, and the first time the global set converged.
+  std::uint64_t reused_blobs = 0;
+  std::uint64_t global_starts = 0, global_restarts = 0;
+  double global_converged_s = std::numeric_limits<double>::quiet_NaN();  // after the global start
 };
 
 }  // namespace luxloc

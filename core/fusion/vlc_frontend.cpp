@@ -1,6 +1,7 @@
 #include "core/fusion/vlc_frontend.hpp"
 
 #include <cmath>
+#include <limits>
 
 #include "core/vlc/stripe_decoder.hpp"
 
@@ -17,9 +18,10 @@ const std::vector<LedObservation>& accepted_leds(const DecodedFrame& frame) {
 
 struct VlcFrontend::State {
   State(const CameraModel& c, const LedMap& m, const FusionOptions& o, double h)
-      : camera(c), map(m), options(o), device_height_m(h), decoder(c, m) {}
+      : camera(c), map(m), index(map), options(o), device_height_m(h), decoder(c, m) {}
   CameraModel camera;
   LedMap map;
+  LedClassIndex index;  // of `map` (declared after it)
   FusionOptions options;
   double device_height_m;
   StripeDecoder decoder;
@@ -37,7 +39,7 @@ DecodedFrame VlcFrontend::decode(const FrameSample& frame) const {
   auto impl = std::make_shared<DecodedFrame::Impl>();
   double rows = 0.0;
   for (LedObservation& o : state_->decoder.decode(frame.gray)) {
-    if (!o.accepted()) {
+    if (!o.classified()) {
       ++f.rejected;
       continue;
     }
@@ -65,20 +67,47 @@ ReprojectionLikelihood VlcFrontend::likelihood(const DecodedFrame& frame, const 
                            (f * s.options.attitude_sigma_rad) * (f * s.options.attitude_sigma_rad);
   std::vector<ReprojectionTerm> terms;
   if (frame.impl)
-    for (const LedObservation& o : frame.impl->accepted)
-      terms.push_back({s.map.leds()[static_cast<std::size_t>(o.led_index)].p_inW, o.uv, 1.0 / sigma_px2});
-  return ReprojectionLikelihood(s.camera, R_BtoW, s.device_height_m, std::move(terms),
-                                5.0 * std::sqrt(sigma_px2));
+    for (const LedObservation& o : frame.impl->accepted) {
+      if (o.led_index >= 0)
+        terms.push_back({s.map.leds()[static_cast<std::size_t>(o.led_index)].p_inW, o.uv, 1.0 / sigma_px2, -1});
+      else
+        terms.push_back({Eigen::Vector3d::Zero(), o.uv, 1.0 / sigma_px2, o.freq_class});
+    }
+  return ReprojectionLikelihood(s.camera, R_BtoW, s.device_height_m, std::move(terms), 5.0 * std::sqrt(sigma_px2),
+                                ReuseAssociation{&s.map, &s.index});
 }
 
-std::optional<YawMeasurement> VlcFrontend::yaw_offset(const DecodedFrame& frame, const Eigen::Matrix3d& R_BtoW) const {
+ReprojectionLikelihood VlcFrontend::resolved_likelihood(const DecodedFrame& frame, const Eigen::Matrix3d& R_BtoW,
+                                                        const std::optional<PoseHint>& hint,
+                                                        std::size_t* dropped) const {
+  const ReprojectionLikelihood lik = likelihood(frame, R_BtoW);
+  if (!lik.has_reused()) {
+    if (dropped) *dropped = 0;
+    return lik;
+  }
+  if (!hint) return lik.resolved(std::numeric_limits<double>::quiet_NaN(), 0.0, 0.0, dropped);  // drops every reused term
+  // Too uncertain to tell the copies apart: drop the reused terms (3 sigma inside the
+  // smallest capture radius among them, else ambiguous).
+  double capture = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < lik.size(); ++i)
+    if (lik.term(i).klass >= 0) capture = std::min(capture, state_->index.capture_radius(lik.term(i).klass));
+  if (!(3.0 * hint->sigma_m < capture))
+    return lik.resolved(std::numeric_limits<double>::quiet_NaN(), 0.0, 0.0, dropped);
+  return lik.resolved(hint->p_inW.x(), hint->p_inW.y(), hint->yaw_offset_rad, dropped);
+}
+
+const LedMap& VlcFrontend::map() const { return state_->map; }
+bool VlcFrontend::reuses_frequencies() const { return state_->map.reuses_frequencies(); }
+
+std::optional<YawMeasurement> VlcFrontend::yaw_offset(const DecodedFrame& frame, const Eigen::Matrix3d& R_BtoW,
+                                                     const std::optional<PoseHint>& hint) const {
   // Each LED's bearing through R_BtoW, met with its height, gives the horizontal vector
   // camera -> LED in R_BtoW's world, h_i = p_Li - p_i (p_i: ReprojectionLikelihood::invert).
   // With the true attitude Rz(e) R_BtoW the map sees Rz(e) h_i, so the LEDs' pattern about
   // its centroid, a_i = p_Li - mean, is the bearings' pattern b_i turned by e: the least-
   // squares turn (2-D Procrustes) is e = atan2(sum b_i x a_i, sum b_i . a_i). A tilt error
   // moves every h_i alike and cancels in b_i.
-  const ReprojectionLikelihood lik = likelihood(frame, R_BtoW);
+  const ReprojectionLikelihood lik = resolved_likelihood(frame, R_BtoW, hint);
   std::vector<Eigen::Vector2d> a, b;
   std::vector<double> dz;
   if (!frame.impl) return std::nullopt;
@@ -86,7 +115,7 @@ std::optional<YawMeasurement> VlcFrontend::yaw_offset(const DecodedFrame& frame,
   for (std::size_t i = 0; i < lik.size(); ++i) {
     const std::optional<Eigen::Vector2d> p = lik.invert(i);
     if (!p) continue;
-    const Eigen::Vector3d& L = s.map.leds()[static_cast<std::size_t>(frame.impl->accepted[i].led_index)].p_inW;
+    const Eigen::Vector3d& L = lik.term(i).p_LinW;
     a.push_back(L.head<2>());
     b.push_back(L.head<2>() - *p);
     dz.push_back(std::max(0.3, L.z() - s.device_height_m));
@@ -120,9 +149,10 @@ std::optional<YawMeasurement> VlcFrontend::yaw_offset(const DecodedFrame& frame,
   return m;
 }
 
-std::optional<PositionMeasurement> VlcFrontend::fix(const DecodedFrame& frame, const Eigen::Matrix3d& R_BtoW) const {
+std::optional<PositionMeasurement> VlcFrontend::fix(const DecodedFrame& frame, const Eigen::Matrix3d& R_BtoW,
+                                                   const std::optional<PoseHint>& hint) const {
   // Each LED's bearing, intersected with its height, places the body; the mean of those.
-  const ReprojectionLikelihood lik = likelihood(frame, R_BtoW);
+  const ReprojectionLikelihood lik = resolved_likelihood(frame, R_BtoW, hint);
   Eigen::Vector2d sum = Eigen::Vector2d::Zero();
   int n = 0;
   for (std::size_t i = 0; i < lik.size(); ++i)

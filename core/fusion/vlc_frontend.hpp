@@ -30,6 +30,15 @@ struct DecodedFrame {
 // The identified LEDs of a decoded frame (for the live view's camera overlay).
 const std::vector<LedObservation>& accepted_leds(const DecodedFrame& frame);
 
+// The current estimate, for the single-hypothesis paths (EKF, loose fix, yaw) in a map that
+// reuses frequencies: which copy a blob of a reused class is. sigma_m: its 1-sigma spread;
+// a copy is taken only when 3 sigma stays inside the class's capture radius.
+struct PoseHint {
+  Eigen::Vector2d p_inW = Eigen::Vector2d::Zero();
+  double yaw_offset_rad = 0.0;  // of the R_BtoW the call is given
+  double sigma_m = 0.0;
+};
+
 class VlcFrontend {
  public:
   VlcFrontend(const CameraModel& camera, const LedMap& map, const FusionOptions& options, double device_height_m);
@@ -37,13 +46,25 @@ class VlcFrontend {
   DecodedFrame decode(const FrameSample& frame) const;
   // Position of the body from the decoded LEDs, given the attitude; nullopt when the
   // frame cannot fix a position (no LED, degenerate geometry).
-  std::optional<PositionMeasurement> fix(const DecodedFrame& frame, const Eigen::Matrix3d& R_BtoW) const;
+  // In a reuse map the blobs of reused classes need `hint` (without it only the LEDs of
+  // classes of one count).
+  std::optional<PositionMeasurement> fix(const DecodedFrame& frame, const Eigen::Matrix3d& R_BtoW,
+                                         const std::optional<PoseHint>& hint = std::nullopt) const;
   // The yaw offset of R_BtoW (true yaw - its yaw) from the camera geometry of two or more
   // LEDs: the horizontal pattern of their bearings against the map's; nullopt with fewer
   // than two LEDs or a baseline too short to tell.
-  std::optional<YawMeasurement> yaw_offset(const DecodedFrame& frame, const Eigen::Matrix3d& R_BtoW) const;
-  // Tight coupling: the per-particle reprojection likelihood of the frame's LEDs.
+  std::optional<YawMeasurement> yaw_offset(const DecodedFrame& frame, const Eigen::Matrix3d& R_BtoW,
+                                           const std::optional<PoseHint>& hint = std::nullopt) const;
+  // Tight coupling: the per-particle reprojection likelihood of the frame's LEDs (each
+  // particle associates the blobs of reused frequencies itself).
   ReprojectionLikelihood likelihood(const DecodedFrame& frame, const Eigen::Matrix3d& R_BtoW) const;
+  // The likelihood with every reused blob associated at `hint` (dropped where ambiguous
+  // or where no copy is near); `dropped` counts those.
+  ReprojectionLikelihood resolved_likelihood(const DecodedFrame& frame, const Eigen::Matrix3d& R_BtoW,
+                                             const std::optional<PoseHint>& hint, std::size_t* dropped = nullptr) const;
+  // The map index of LED i of the frame's likelihood(), once resolved (for yaw_offset).
+  const LedMap& map() const;
+  bool reuses_frequencies() const;
 
  private:
   struct State;

@@ -8,11 +8,13 @@ namespace luxloc {
 
 template <typename F>
 void LedClassIndex::Grid::visit(double x, double y, double r, F&& f) const {
-  if (nx == 0) return;
-  const int i0 = std::max(0, static_cast<int>(std::floor((x - r - x0) / cell)));
-  const int i1 = std::min(nx - 1, static_cast<int>(std::floor((x + r - x0) / cell)));
-  const int j0 = std::max(0, static_cast<int>(std::floor((y - r - y0) / cell)));
-  const int j1 = std::min(ny - 1, static_cast<int>(std::floor((y + r - y0) / cell)));
+  if (nx == 0 || !std::isfinite(x) || !std::isfinite(y) || !(r >= 0.0)) return;
+  // Clamped in double before the cast: a query far off the map must not overflow an int.
+  const auto cell_at = [this](double v, double origin, int n) {
+    return static_cast<int>(std::clamp(std::floor((v - origin) / cell), -1.0, static_cast<double>(n)));
+  };
+  const int i0 = std::max(0, cell_at(x - r, x0, nx)), i1 = std::min(nx - 1, cell_at(x + r, x0, nx));
+  const int j0 = std::max(0, cell_at(y - r, y0, ny)), j1 = std::min(ny - 1, cell_at(y + r, y0, ny));
   for (int j = j0; j <= j1; ++j)
     for (int i = i0; i <= i1; ++i) {
       const int c = j * nx + i;
