@@ -62,8 +62,8 @@ struct FusionOptions {
   // gather on one hypothesis; also the restart after a lost track (kidnapping). 60000:
   // one particle per 0.17 m x 0.17 m of a 60 m x 30 m floor, inside the ~0.1 m wide core of
   // one LED's reprojection likelihood at 2 m (5 px at 460 px focal length) from the
-  // nearest particle, chosen on simulator seeds 1-5 of the floor plan (20 000 lost the
-  // right copy on 2 of 5 starts).
+  // nearest particle. Sized by that reasoning only: not yet tuned on simulated floor plans
+  // (issue 14 open).
   std::size_t global_particles = 60000;
   // Pixel noise of a decoded LED centre (1 sigma) for the fix covariance.
   double vlc_pixel_sigma = 1.0;

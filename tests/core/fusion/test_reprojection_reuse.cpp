@@ -44,7 +44,7 @@ TEST_CASE("Reprojection with reuse: each particle associates the copy under it, 
   CHECK(std::isfinite(far));
   CHECK(lik.associate(0, p_B.x(), p_B.y()) == 0);
   CHECK(lik.associate(0, p_B.x() + 8.1, p_B.y()) == 1);
-  CHECK(lik.associate(0, p_B.x() + 4.0, p_B.y()) == -1);
+  CHECK(lik.associate(0, p_B.x() + 4.0, p_B.y() + 1.0) == -1);  // 4.1 m from both copies: beyond the 4 m capture
   // A yaw offset turns the bearing about the body: the copy is found at the turned point.
   CHECK(lik.associate(0, p_B.x(), p_B.y(), 0.2) == 0);
   // Resolved at a pose near copy 2: the term becomes copy 2 and inverts to its body pose.
