@@ -33,7 +33,10 @@ TEST_CASE("A live luxloc run publishes every pose at the output rate to a real M
   const int rc = run_for("--playback '" + demo_dir() + "' --realtime -q --device-id cart7 --mqtt " + broker.address(),
                          2.5, "INT");
   CHECK(rc == 0);
-  sub.wait_for("luxloc/cart7/status", 1, std::chrono::seconds(2));
+  // The offline status is the last thing luxloc publishes; wait for it, not for a count
+  // (online statuses come about once a second, so a count can be met before it arrives).
+  const auto offline = [](const std::string& p) { return json_field(p, "online") == "0"; };
+  CHECK(sub.wait_until("luxloc/cart7/status", offline, std::chrono::seconds(5)));
   const auto poses = sub.on("luxloc/cart7/pose");
   REQUIRE(poses.size() > 50);
   std::vector<std::map<std::string, double>> parsed;
@@ -71,7 +74,10 @@ TEST_CASE("The broker publishes luxloc's last will when the process dies", "[app
   const int rc = run_for("--playback '" + demo_dir() + "' --realtime -q --device-id dying --mqtt " + broker.address(),
                          2.0, "KILL");
   CHECK(rc != 0);
-  REQUIRE(sub.wait_for("luxloc/dying/status", 2, std::chrono::seconds(5)));
+  // Wait for the will itself: the online statuses luxloc sent before the kill (about one a
+  // second) can reach any count first, so counting messages raced the broker's will.
+  const auto offline = [](const std::string& p) { return json_field(p, "online") == "0"; };
+  REQUIRE(sub.wait_until("luxloc/dying/status", offline, std::chrono::seconds(5)));
   const auto status = sub.on("luxloc/dying/status");
   CHECK(json_field(status.front().payload, "online") == "1");
   CHECK(json_field(status.back().payload, "online") == "0");

@@ -169,6 +169,17 @@ class MqttSubscriber {
     }
     return true;
   }
+  // Waits until a message on `topic` whose payload satisfies `accept` arrived (or the timeout).
+  template <class Accept>
+  bool wait_until(const std::string& topic, Accept accept, std::chrono::milliseconds timeout) {
+    const auto until = std::chrono::steady_clock::now() + timeout;
+    for (;;) {
+      for (const auto& m : on(topic))
+        if (accept(m.payload)) return true;
+      if (std::chrono::steady_clock::now() > until) return false;
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+  }
 
  private:
   std::string topic_;
