@@ -247,11 +247,13 @@ class Viewer {
     cv::cvtColor(gray, img, cv::COLOR_GRAY2BGR);
     for (const LedObservation& o : obs) {
       const cv::Point c(static_cast<int>(std::lround(o.uv.x())), static_cast<int>(std::lround(o.uv.y())));
-      const cv::Scalar colour = o.accepted() ? cv::Scalar(0, 220, 0) : cv::Scalar(0, 0, 255);
+      const cv::Scalar colour = o.classified() ? cv::Scalar(0, 220, 0) : cv::Scalar(0, 0, 255);
       cv::circle(img, c, std::max(3, static_cast<int>(o.radius_px)), colour, 1, cv::LINE_AA);
       char label[96];
       if (o.accepted())
         std::snprintf(label, sizeof label, "id %d %.0f Hz", o.led_id, o.freq_hz);
+      else if (o.classified())
+        std::snprintf(label, sizeof label, "class %d %.0f Hz", o.freq_class, o.freq_hz);
       else
         std::snprintf(label, sizeof label, "%s", o.reject_reason.c_str());
       cv::putText(img, label, c + cv::Point(8, -8), cv::FONT_HERSHEY_SIMPLEX, 0.45, colour, 1, cv::LINE_AA);
@@ -356,6 +358,7 @@ int run_vlc(const VlcArgs& a) {
 
   long n_frames = 0, n_with_leds = 0, n_blobs = 0, n_accepted = 0;
   std::map<int, Running> per_id;
+  std::map<int, Running> per_class;  // decodes of reused frequencies (no LED named: issue 14)
   std::vector<double> freq_ratio;  // decoded / map frequency of every identified blob
   std::map<std::string, long> rejected;
   ErrorStats geo, rss;
@@ -384,7 +387,7 @@ int run_vlc(const VlcArgs& a) {
     const std::vector<LedObservation> obs = decoder.decode(f->gray);
     decode_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
-    int accepted = 0;
+    int accepted = 0, reused = 0;
     double rows = 0;
     for (const LedObservation& o : obs) {
       ++n_blobs;
@@ -393,6 +396,10 @@ int run_vlc(const VlcArgs& a) {
         rows += o.uv.y();
         per_id[o.led_id].add(o.freq_hz);
         freq_ratio.push_back(o.freq_hz / map->leds()[static_cast<std::size_t>(o.led_index)].freq_hz);
+      } else if (o.classified()) {  // a reused frequency: decoded, the copy is the filter's to tell
+        ++reused;
+        per_class[o.freq_class].add(o.freq_hz);
+        freq_ratio.push_back(o.freq_hz / map->classes()[static_cast<std::size_t>(o.freq_class)].freq_hz);
       } else {
         rejected[o.reject_reason]++;
       }
@@ -403,8 +410,8 @@ int run_vlc(const VlcArgs& a) {
         out->write(line);
       }
     }
-    n_accepted += accepted;
-    if (accepted > 0) ++n_with_leds;
+    n_accepted += accepted + reused;
+    if (accepted + reused > 0) ++n_with_leds;
 
     if (a.check_ids) {
       // The renderer's own truth for this frame, from the true pose at each row's time.
@@ -422,8 +429,11 @@ int run_vlc(const VlcArgs& a) {
           return T;
         };
         const sim::RenderedFrame rf = sim::render_frame(*camera, *map, pose_at, t, truth_render, rng);
-        for (const sim::RenderedLed& l : rf.leds)
-          tl.push_back({l.id, l.uv, l.radius_px, l.row_max - l.row_min, l.fully_inside});
+        for (const sim::RenderedLed& l : rf.leds) {
+          const Led* led = map->find_id(l.id);
+          const int klass = led ? map->class_of(static_cast<std::size_t>(led - map->leds().data())) : -1;
+          tl.push_back({l.id, l.uv, l.radius_px, l.row_max - l.row_min, l.fully_inside, klass});
+        }
       }
       tally_ids(obs, tl, ids);
     }
@@ -500,6 +510,29 @@ int run_vlc(const VlcArgs& a) {
                 1e3 * decode_seconds / static_cast<double>(n_frames));
   // Every LED of the map, seen or not; "needs rows": the blob height below which the
   // decoder refuses it (min_periods stripe periods of its frequency): a room-design check.
+  // A map that reuses frequencies (issue 14): a decode names a class, not an LED, so the
+  // table is per class (its copies: how many LEDs share the frequency).
+  if (map->reuses_frequencies()) {
+    std::fprintf(g_report, "the map reuses frequencies: %zu LEDs in %zu classes, copies >= %.2f m apart\n", map->size(),
+                 map->classes().size(), map->min_reuse_distance_m());
+    std::fprintf(g_report, "decoded per frequency class:\n  %6s %6s %8s %10s %10s %9s %7s %8s %10s\n", "class", "copies",
+                 "decodes", "map Hz", "mean Hz", "sd Hz", "sd %", "period", "needs rows");
+    for (std::size_t k = 0; k < map->classes().size(); ++k) {
+      const FrequencyClass& fc = map->classes()[k];
+      Running r = per_class.count(static_cast<int>(k)) ? per_class.at(static_cast<int>(k)) : Running{};
+      if (fc.members.size() == 1 && per_id.count(map->leds()[static_cast<std::size_t>(fc.members[0])].id))
+        r = per_id.at(map->leds()[static_cast<std::size_t>(fc.members[0])].id);
+      const double period = 1.0 / (fc.freq_hz * camera->row_time_s);
+      const auto num = [](bool have, double v, int digits) {
+        char b[32];
+        std::snprintf(b, sizeof b, "%.*f", digits, v);
+        return have ? std::string(b) : std::string("-");
+      };
+      std::fprintf(g_report, "  %6zu %6zu %8ld %10.1f %10s %9s %7s %8.1f %10.0f\n", k, fc.members.size(), r.n, fc.freq_hz,
+                   num(r.n > 0, r.mean, 1).c_str(), num(r.n > 1, r.sd(), 1).c_str(),
+                   num(r.n > 1 && r.mean > 0, r.mean > 0 ? 100.0 * r.sd() / r.mean : 0.0, 2).c_str(), period, std::ceil(decoder.options().min_periods * period));
+    }
+  } else {
   std::fprintf(g_report, "decoded per LED (map order):\n  %6s %8s %10s %10s %9s %7s %8s %10s\n", "id", "decodes", "map Hz",
               "mean Hz", "sd Hz", "sd %", "period", "needs rows");
   for (const Led& led : map->leds()) {
@@ -512,6 +545,7 @@ int run_vlc(const VlcArgs& a) {
     else
       std::fprintf(g_report, "  %6d %8d %10.1f %10s %9s %7s %8.1f %10.0f\n", led.id, 0, led.freq_hz, "-", "-", "-", period,
                   std::ceil(decoder.options().min_periods * period));
+  }
   }
   // A wrong row time scales every decoded frequency by the same factor (f = 1 / (period *
   // row_time)): the median ratio over the identified blobs shows it before the ids fail.

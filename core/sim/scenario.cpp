@@ -5,6 +5,8 @@
 
 #include "core/sim/flight_trajectory.hpp"
 #include "core/sim/walk_trajectory.hpp"
+#include "core/vlc/frequency_plan.hpp"
+#include "core/vlc/led_visibility.hpp"
 
 namespace luxloc::sim {
 
@@ -254,10 +256,59 @@ Scenario robot() {
   return s;
 }
 
+// Issue 14's building-scale VLC: a 60 m x 30 m office floor, 450 ceiling LEDs on a 2 m grid
+// sharing 12 frequencies (frequency reuse), planned as `luxloc calib ledmap plan` would for
+// this camera (frequency_plan.hpp: the band from the camera, DSatur + random recolouring for
+// the largest aperiodic reuse distance). The walk follows the central corridor, goes into
+// rooms on both sides and back, about 170 m a lap (~2 min), with two brief stops.
+Scenario floorplan() {
+  Scenario s = base("floorplan",
+                    "a 10-minute walk through a 60 m x 30 m office floor: corridor and rooms under 450 LEDs on a 2 m "
+                    "grid that share 12 frequencies",
+                    600.0);
+  s.room_x_m = 60.0;
+  s.room_y_m = 30.0;
+  const double ceiling_z = 3.0, diameter = 0.20, max_tilt = 15.0 * 3.14159265358979323846 / 180.0;
+  std::vector<Eigen::Vector2d> xy;
+  for (int iy = 0; iy < 15; ++iy)
+    for (int ix = 0; ix < 30; ++ix) xy.emplace_back(1.0 + 2.0 * ix, 1.0 + 2.0 * iy);
+  // The planner's conflict distance: co-visible within 15 deg of level, plus the disc and
+  // 0.25 m (calib ledmap plan's defaults).
+  const double dz = ceiling_z - s.device_height_m;
+  const double conflict = co_visibility_distance_m(s.camera, dz, max_tilt) + diameter + 0.25;
+  FrequencyPlanOptions po;
+  po.classes = 12;
+  po.seed = 14;  // fixed: the scenario is one floor, the same every run
+  const FrequencyPlan plan = plan_frequency_classes(xy, conflict, po);
+  const std::vector<double> freqs = spread_frequencies(frequency_band(s.camera, dz, diameter), 12);
+  std::vector<Led> leds;
+  for (std::size_t i = 0; i < xy.size(); ++i) {
+    Led l;
+    l.id = static_cast<int>(i) + 1;
+    l.freq_hz = freqs[static_cast<std::size_t>(plan.class_of[i])];
+    l.p_inW = {xy[i].x(), xy[i].y(), ceiling_z};
+    l.diameter_m = diameter;
+    leds.push_back(l);
+  }
+  s.map = LedMap(std::move(leds), "sim:floorplan");
+  WalkOptions w;
+  // Corridor along y = 15; a room to the north (x 28-38), the east wing, a room to the south
+  // (x 20-40) reached from both ends, back west along y = 4 and north to the corridor.
+  w.waypoints = {{3, 15},  {27, 15}, {27, 25}, {37, 25}, {37, 15}, {57, 15}, {57, 5},
+                 {41, 5},  {41, 10}, {21, 10}, {21, 5},  {3, 5}};
+  w.corner_sigma_m = 0.5;
+  w.start_u_m = 2.0;  // (5, 15), under LED (5, 15), heading east
+  w.height_m = s.device_height_m;
+  w.walking = {{2.0, 200.0}, {203.0, 400.0}, {402.0, kInf}};  // stand 2 s first, then stop twice
+  s.trajectory = std::make_shared<WalkTrajectory>(w);
+  s.walk = w;
+  return s;
+}
+
 }  // namespace
 
 std::vector<std::string> scenario_names() {
-  return {"walk", "static", "square", "dense", "uwb", "floor", "drone", "robot"};
+  return {"walk", "static", "square", "dense", "uwb", "floor", "drone", "robot", "floorplan"};
 }
 
 Scenario make_scenario(const std::string& name) {
@@ -269,6 +320,7 @@ Scenario make_scenario(const std::string& name) {
   if (name == "floor") return floor();
   if (name == "drone") return drone();
   if (name == "robot") return robot();
+  if (name == "floorplan") return floorplan();
   std::string valid;
   for (const std::string& n : scenario_names()) valid += (valid.empty() ? "" : ", ") + n;
   throw std::invalid_argument("unknown scenario '" + name + "' (valid: " + valid + ")");

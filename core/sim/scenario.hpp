@@ -38,7 +38,7 @@ struct Scenario {
   std::string mag_disturbance = "none";
 };
 
-// "walk" (the default), "static", "square", "dense", "uwb", "floor", "drone", "robot".
+// "walk" (the default), "static", "square", "dense", "uwb", "floor", "drone", "robot", "floorplan".
 std::vector<std::string> scenario_names();
 // Throws std::invalid_argument naming the valid scenarios for an unknown name.
 Scenario make_scenario(const std::string& name);

@@ -32,6 +32,12 @@ int owner(const Eigen::Vector2d& uv, const std::vector<TrueLedBlob>& truth, cons
   return best;
 }
 
+// The decode names the LED there (its id, or its class when the frequency is reused).
+bool names(const LedObservation& o, const TrueLedBlob& t) {
+  if (!o.classified()) return false;
+  return o.accepted() ? o.led_id == t.id : o.freq_class == t.klass;
+}
+
 }  // namespace
 
 void tally_ids(const std::vector<LedObservation>& decoded, const std::vector<TrueLedBlob>& truth, IdCheckCounts& counts,
@@ -42,18 +48,18 @@ void tally_ids(const std::vector<LedObservation>& decoded, const std::vector<Tru
   std::vector<const LedObservation*> got(truth.size(), nullptr);
   for (const LedObservation& o : decoded) {
     const int k = owner(o.uv, truth, options);
-    if (!o.accepted()) {
+    if (!o.classified()) {
       ++counts.rejected;
       if (k >= 0 && !got[static_cast<std::size_t>(k)]) got[static_cast<std::size_t>(k)] = &o;
       continue;
     }
     ++counts.decodes;
     if (truth.empty()) ++counts.dark_frame_decodes;
-    if (k < 0 || truth[static_cast<std::size_t>(k)].id != o.led_id) ++counts.wrong;
+    if (k < 0 || !names(o, truth[static_cast<std::size_t>(k)])) ++counts.wrong;
     if (k >= 0) {
+      const TrueLedBlob& t = truth[static_cast<std::size_t>(k)];
       const LedObservation*& g = got[static_cast<std::size_t>(k)];
-      if (!g || !g->accepted() || (g->led_id != truth[static_cast<std::size_t>(k)].id && o.led_id == truth[static_cast<std::size_t>(k)].id))
-        g = &o;
+      if (!g || !g->classified() || (!names(*g, t) && names(o, t))) g = &o;
     }
   }
   for (std::size_t i = 0; i < truth.size(); ++i) {
@@ -61,13 +67,13 @@ void tally_ids(const std::vector<LedObservation>& decoded, const std::vector<Tru
     if (!t.fully_inside || t.row_span < options.min_row_span) continue;
     ++counts.qualifying;
     const LedObservation* g = got[i];
-    if (g && g->accepted() && g->led_id == t.id) {
+    if (g && names(*g, t)) {
       ++counts.right;
       continue;
     }
     ++counts.missed;
     counts.missed_by_id[t.id]++;
-    counts.missed_by[!g ? "not found" : g->accepted() ? "wrong id" : g->reject_reason]++;
+    counts.missed_by[!g ? "not found" : g->classified() ? "wrong id" : g->reject_reason]++;
   }
 }
 

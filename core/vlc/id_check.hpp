@@ -19,6 +19,7 @@ struct TrueLedBlob {
   double radius_px = 0.0;
   double row_span = 0.0;      // rows the disc spans
   bool fully_inside = false;  // the whole disc lies within the image
+  int klass = -1;  // its frequency class (LedMap::class_of): a decode of a reused frequency is right by class
 };
 
 struct IdCheckOptions {
@@ -46,7 +47,9 @@ struct IdCheckCounts {
   double wrong_fraction() const { return decodes > 0 ? static_cast<double>(wrong) / decodes : 0.0; }
 };
 
-// Tallies one frame's decoder output against its truth.
+// Tallies one frame's decoder output against its truth. A decode counts when it names a
+// frequency class (LedObservation::classified); it is right when it names the LED there, or,
+// for a reused frequency (no LED named: the position tells which copy), that LED's class.
 void tally_ids(const std::vector<LedObservation>& decoded, const std::vector<TrueLedBlob>& truth, IdCheckCounts& counts,
                const IdCheckOptions& options = {});
 

@@ -18,7 +18,16 @@ LedObservation decode_at(double u, double v, int id, const std::string& reason =
   o.uv = {u, v};
   o.led_id = id;
   o.led_index = reason.empty() ? id - 1 : -1;
+  o.freq_class = o.led_index;  // a map without reuse: one class per LED
   o.reject_reason = reason;
+  return o;
+}
+
+// A decode of a reused frequency: the class, no LED named.
+LedObservation class_at(double u, double v, int klass) {
+  LedObservation o;
+  o.uv = {u, v};
+  o.freq_class = klass;
   return o;
 }
 
@@ -62,6 +71,20 @@ TEST_CASE("id check: right, wrong, missed by reason, small and cut blobs not cou
   c.add(dark);
   CHECK(c.frames == 2);
   CHECK(c.wrong == 3);
+}
+
+TEST_CASE("id check in a map that reuses frequencies: a decode is right by class", "[vlc][reuse]") {
+  // LEDs 11 and 12 share class 3; LED 13 has class 4 of its own.
+  const std::vector<TrueLedBlob> truth = {{11, {100, 100}, 25, 50, true, 3},
+                                          {12, {300, 100}, 25, 50, true, 3},
+                                          {13, {500, 100}, 25, 50, true, 4}};
+  IdCheckCounts c;
+  tally_ids({class_at(101, 99, 3), class_at(300, 101, 4), decode_at(500, 100, 13)}, truth, c);
+  CHECK(c.qualifying == 3);
+  CHECK(c.right == 2);  // the class on LED 11, the id on LED 13
+  CHECK(c.wrong == 1);  // class 4 on LED 12 (class 3)
+  CHECK(c.missed_by["wrong id"] == 1);
+  CHECK(c.missed_by_id == std::map<int, long>{{12, 1}});
 }
 
 TEST_CASE("simulated dense walk (1-4 whole LEDs in view): >= 99.5 % of full blobs right, <= 0.1 % wrong", "[vlc][sim]") {
