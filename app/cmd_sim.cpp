@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "app/commands.hpp"
+#include "core/sim/kidnap_trajectory.hpp"
 #include "core/sim/imu_grade.hpp"
 #include "core/sim/mag_disturbance.hpp"
 #include "core/sim/walker_population.hpp"
@@ -30,6 +31,7 @@ struct SimArgs {
   double duration_s = 0.0;
   double fps = 30.0;
   std::vector<std::string> blackouts;
+  std::string kidnap;  // START:DISTANCE
   bool no_frames = false;
   std::string frame_format = "jpg";
   std::string fixes;  // RATE_HZ:SIGMA_M
@@ -99,6 +101,14 @@ std::pair<double, double> parse_fixes(const std::string& text) {
   return {rate, sigma};
 }
 
+sim::KidnapOptions parse_kidnap(const std::string& text) {
+  sim::KidnapOptions k;
+  std::tie(k.start_s, k.distance_m) = parse_number_pair(text, "--kidnap", "START:DISTANCE (s, m)");
+  if (!(k.start_s >= 0.0) || !(k.distance_m > 0.0))
+    throw CLI::ValidationError("--kidnap", "START must be >= 0 and DISTANCE > 0 in '" + text + "'");
+  return k;
+}
+
 int run_sim(const SimArgs& a) {
   const auto t_start = std::chrono::steady_clock::now();
   sim::SimOptions options;
@@ -114,6 +124,17 @@ int run_sim(const SimArgs& a) {
     const double duration = a.duration_s > 0.0 ? a.duration_s : scenario.duration_s;
     options.walker = sim::draw_walker(a.seed, duration);
     scenario.trajectory = std::make_shared<sim::WalkTrajectory>(sim::apply_walker(*scenario.walk, *options.walker));
+  }
+  if (!a.kidnap.empty()) {
+    // The carry covers the camera: a blackout from the pick-up to the put-down.
+    try {
+      const auto k = std::make_shared<sim::KidnapTrajectory>(scenario.trajectory, parse_kidnap(a.kidnap));
+      options.blackouts.push_back({k->start_s(), k->end_s() - k->start_s()});
+      options.kidnap = sim::SimOptions::Kidnap{k->start_s(), k->end_s(), k->pick_up().p_BinW, k->put_down().p_BinW};
+      scenario.trajectory = k;
+    } catch (const std::invalid_argument& e) {
+      throw CLI::ValidationError("--kidnap", e.what());
+    }
   }
   options.imu = sim::imu_grade(a.imu_grade.empty() ? scenario.imu_grade : a.imu_grade);
   options.mag_disturbance = a.mag_disturbance.empty() ? scenario.mag_disturbance : a.mag_disturbance;
@@ -159,6 +180,11 @@ void add_sim_command(CLI::App& root, Action& action) {
   cmd->add_option("--fps", args->fps, "camera frame rate")->check(CLI::PositiveNumber)->capture_default_str();
   cmd->add_option("--blackout", args->blackouts, "START:DURATION seconds with all lights off (repeatable)")
       ->each([](const std::string& s) { (void)parse_blackout(s); });
+  cmd->add_option("--kidnap", args->kidnap,
+                  "at START s pick the device up, cover the camera and carry it (no steps, 1 m/s) to where its walk "
+                  "is DISTANCE m away, then walk on from there (issue 14: global relocalisation)")
+      ->type_name("START:DISTANCE")
+      ->each([](const std::string& s) { (void)parse_kidnap(s); });
   cmd->add_flag("--no-frames", args->no_frames, "write no frames (IMU and truth only)");
   cmd->add_option("--fixes", args->fixes,
                   "also write fixes.csv: absolute fixes at RATE_HZ from the truth plus SIGMA_M Gaussian noise per axis")

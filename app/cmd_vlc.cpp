@@ -29,6 +29,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "app/commands.hpp"
+#include "app/sim_truth.hpp"
 #include "core/common/csv_reader.hpp"
 #include "core/common/input_error.hpp"
 #include "core/imu/mahony_filter.hpp"
@@ -67,58 +68,7 @@ struct VlcArgs {
   double device_height_m = std::numeric_limits<double>::quiet_NaN();
 };
 
-// ---- ground truth and attitude -------------------------------------------------------
-
-struct TruthRow {
-  double t = 0;
-  Eigen::Vector3d p = Eigen::Vector3d::Zero();
-  double yaw = 0, roll = 0, pitch = 0;
-};
-
-struct Truth {
-  std::vector<TruthRow> rows;
-  bool has_tilt = false;  // roll, pitch columns (the simulator writes them)
-  bool has_z = false;
-
-  // Linear interpolation (yaw across the wrap); false outside the file's time span.
-  bool at(double t, Eigen::Matrix3d& R, Eigen::Vector3d& p) const {
-    if (rows.size() < 2 || t < rows.front().t || t > rows.back().t) return false;
-    auto it = std::lower_bound(rows.begin(), rows.end(), t, [](const TruthRow& a, double x) { return a.t < x; });
-    const std::size_t i = std::min<std::size_t>(it == rows.begin() ? 0 : static_cast<std::size_t>(it - rows.begin()) - 1,
-                                                rows.size() - 2);
-    const TruthRow &a = rows[i], &b = rows[i + 1];
-    const double w = b.t > a.t ? std::clamp((t - a.t) / (b.t - a.t), 0.0, 1.0) : 0.0;
-    p = a.p + w * (b.p - a.p);
-    const double yaw = a.yaw + w * std::remainder(b.yaw - a.yaw, 2 * std::numbers::pi);
-    const double roll = a.roll + w * (b.roll - a.roll), pitch = a.pitch + w * (b.pitch - a.pitch);
-    R = (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
-         Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()))
-            .toRotationMatrix();
-    return true;
-  }
-};
-
-Truth read_truth(const fs::path& path) {
-  CsvReader r(path.string());
-  const int ct = r.require_column("t"), cx = r.require_column("x"), cy = r.require_column("y");
-  const int cz = r.column("z"), cyaw = r.column("yaw"), croll = r.column("roll"), cpitch = r.column("pitch");
-  Truth truth;
-  truth.has_tilt = croll >= 0 && cpitch >= 0 && cyaw >= 0;
-  truth.has_z = cz >= 0;
-  while (r.next_row()) {
-    TruthRow row;
-    row.t = r.number(ct);
-    row.p = {r.number(cx), r.number(cy), cz >= 0 ? r.number(cz) : 0.0};
-    if (cyaw >= 0) row.yaw = r.number(cyaw);
-    if (truth.has_tilt) {
-      row.roll = r.number(croll);
-      row.pitch = r.number(cpitch);
-    }
-    if (!truth.rows.empty() && !(row.t > truth.rows.back().t)) continue;  // out of order: skipped
-    truth.rows.push_back(row);
-  }
-  return truth;
-}
+// ---- attitude -------------------------------------------------------------------------
 
 // The Mahony attitude (SEEDS.md C.3) over a whole imu.csv, sampled at every IMU time.
 struct AttitudeTrack {
@@ -150,19 +100,6 @@ AttitudeTrack run_mahony(const fs::path& imu_csv) {
     track.q.push_back(ahrs.q_BtoW());
   }
   return track;
-}
-
-std::vector<std::pair<double, double>> read_blackouts(const fs::path& sim_truth) {
-  std::vector<std::pair<double, double>> out;
-  if (!fs::exists(sim_truth)) return out;
-  try {
-    cv::FileStorage fs(sim_truth.string(), cv::FileStorage::READ);
-    for (const cv::FileNode& b : fs["blackouts"])
-      out.emplace_back(static_cast<double>(b["start_s"]), static_cast<double>(b["duration_s"]));
-  } catch (const cv::Exception&) {
-    throw InputError(sim_truth.string(), 0, "blackouts", "not a readable OpenCV YAML file");
-  }
-  return out;
 }
 
 // ---- statistics ------------------------------------------------------------------------
@@ -288,7 +225,7 @@ int run_vlc(const VlcArgs& a) {
   double device_height = a.device_height_m;
   SourcePtr frames;
   fs::path dir;
-  Truth truth;
+  SimTruth truth;
   AttitudeTrack attitude;
   bool have_truth = false;
   std::vector<std::pair<double, double>> blackouts;
@@ -419,21 +356,7 @@ int run_vlc(const VlcArgs& a) {
       for (const auto& [s, dur] : blackouts) dark = dark || (t >= s && t < s + dur);
       std::vector<TrueLedBlob> tl;
       if (!dark) {
-        const sim::PoseAt pose_at = [&](double ts) {
-          Eigen::Matrix3d R;
-          Eigen::Vector3d p;
-          if (!truth.at(std::clamp(ts, truth.rows.front().t, truth.rows.back().t), R, p)) R.setIdentity();
-          Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-          T.linear() = R;
-          T.translation() = p;
-          return T;
-        };
-        const sim::RenderedFrame rf = sim::render_frame(*camera, *map, pose_at, t, truth_render, rng);
-        for (const sim::RenderedLed& l : rf.leds) {
-          const Led* led = map->find_id(l.id);
-          const int klass = led ? map->class_of(static_cast<std::size_t>(led - map->leds().data())) : -1;
-          tl.push_back({l.id, l.uv, l.radius_px, l.row_max - l.row_min, l.fully_inside, klass});
-        }
+        tl = true_led_blobs(truth, *camera, *map, t, truth_render, rng);
       }
       tally_ids(obs, tl, ids);
     }

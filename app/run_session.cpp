@@ -206,6 +206,9 @@ void add_run_options(CLI::App* sub, RunConfig& cfg) {
       ->check(CLI::PositiveNumber)
       ->type_name("S");
   add_particle_filter_options(sub, cfg.fusion.pf);
+  sub->add_flag("--check-associations", cfg.check_associations,
+                "simulated sessions over a map that reuses frequencies: count the blobs whose copy the fusion got "
+                "wrong, against the simulator's truth (groundtruth.csv with attitude; issue 14)");
   sub->add_option("--record", cfg.record,
                   "also record every input sample into this new session folder (replay with --playback)")
       ->type_name("DIR");
@@ -477,6 +480,25 @@ RunOutcome run_session(const RunConfig& cfg, std::ostream& log) {
   }
 
   FusionEngine engine(c.fusion, session.map, session.camera, session.config, c.uwb, c.vo);
+  // --check-associations: the truth is read before the run (a bad file stops it at once).
+  SimTruth assoc_truth;
+  std::vector<std::pair<double, double>> assoc_blackouts;
+  std::vector<FusionEngine::AssociationRecord> assoc_records;  // written on the fusion thread, read after it
+  if (c.check_associations) {
+    if (c.playback.empty() || !session.groundtruth)
+      throw InputError("--check-associations", 0, "", "needs a simulated --playback session with groundtruth.csv");
+    if (!session.map || !session.camera)
+      throw InputError("--check-associations", 0, "", "needs the session's LED map and camera file");
+    assoc_truth = read_truth(*session.groundtruth);
+    if (!assoc_truth.has_tilt || !assoc_truth.has_z || assoc_truth.rows.size() < 2)
+      throw InputError(session.groundtruth->string(), 0, "roll",
+                       "--check-associations needs the simulator's groundtruth.csv (t,x,y,z,yaw,roll,pitch)");
+    assoc_blackouts = read_blackouts(std::filesystem::path(c.playback) / "sim_truth.yaml");
+    if (!session.map->reuses_frequencies())
+      log << "luxloc: note: --check-associations: the map gives every LED a frequency of its own: nothing to check\n";
+    engine.set_association_observer(
+        [&assoc_records](const FusionEngine::AssociationRecord& r) { assoc_records.push_back(r); });
+  }
   if (live_view)
     engine.set_frame_observer([live_view](const FrameSample& f, const std::vector<LedObservation>& leds) {
       live_view->offer_frame(f, leds);
@@ -509,6 +531,8 @@ RunOutcome run_session(const RunConfig& cfg, std::ostream& log) {
   outcome.uwb = engine.uwb_stats();
   outcome.vo = engine.vo_stats();
   outcome.groundtruth = session.groundtruth;
+  if (c.check_associations)
+    outcome.associations = check_associations(assoc_records, assoc_truth, assoc_blackouts, *session.camera, *session.map);
   for (const auto& s : outcome.pipeline.sources)
     if (!s.failure.empty()) outcome.failures += s.name + ": " + s.failure + "\n";
   if (!outcome.pipeline.output_failure.empty())
@@ -574,6 +598,23 @@ void print_report(const RunOutcome& r, std::ostream& log) {
     if (std::isfinite(f.sigma_yaw_rad)) log << ", final sigma_yaw " << f.sigma_yaw_rad * 180.0 / 3.141592653589793 << " deg";
     log << std::setprecision(2) << "\n";
   }
+  if (f.reused_blobs || f.global_starts || f.global_restarts) {
+    log << "  frequency reuse: " << f.reused_blobs << " blobs of reused frequencies (each particle chose the copy); "
+        << f.global_starts << " global starts, " << f.global_restarts << " global restarts (lost track)";
+    // Each search (start, time to converge); the first ones of a long run, then a count.
+    const std::size_t shown = std::min<std::size_t>(f.global_searches.size(), 6);
+    for (std::size_t i = 0; i < shown; ++i) {
+      const FusionStats::GlobalSearch& g = f.global_searches[i];
+      log << (i ? "; " : ": ") << "search from t = " << std::setprecision(1) << g.t_start_s << " s ";
+      if (std::isfinite(g.converged_after_s))
+        log << "converged after " << g.converged_after_s << " s";
+      else
+        log << "did not converge";
+    }
+    if (f.global_searches.size() > shown) log << "; " << f.global_searches.size() - shown << " more searches";
+    log << std::setprecision(2) << "\n";
+  }
+  if (r.associations) log << "  " << describe(*r.associations) << "\n";
   const UwbStats& u = r.uwb;
   if (u.samples) {
     // One line whose parts add up to the measurements (issue 16 part 6).

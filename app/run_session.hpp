@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "app/association_check.hpp"
 #include "core/fusion/fusion_engine.hpp"
 #include "core/pipeline/pipeline.hpp"
 #include "plugins/playback/playback_session.hpp"
@@ -42,6 +43,7 @@ struct RunConfig {
   std::vector<std::string> clock_offsets;  // SOURCE=SECONDS
   bool quiet = false;
   std::string record;  // --record DIR: also write every input sample into a session folder
+  bool check_associations = false;  // --check-associations: reused-frequency copies against the simulator's truth
   std::string status = "auto";  // live status line: auto (terminal) | on | off
   // Not an option: called on the fusion thread (luxloc bench soak's RSS / queue monitor).
   std::function<void(const PipelineProbe&)> probe;
@@ -53,6 +55,7 @@ struct RunOutcome {
   UwbStats uwb;
   VoStats vo;
   std::optional<std::filesystem::path> groundtruth;  // of the played-back session
+  std::optional<AssociationCheck> associations;      // --check-associations
   std::string failures;  // sources that ended through a failure
 };
 

@@ -159,6 +159,41 @@ void ParticleFilter::initialize_uniform(const Eigen::AlignedBox2d& region, std::
   compute_moments();
 }
 
+void ParticleFilter::initialize_around(const std::vector<Eigen::Vector2d>& anchors, const Eigen::Vector2d& w,
+                                       double sigma_m, std::size_t n) {
+  if (anchors.empty() || !w.allFinite() || !(sigma_m >= 0.0)) return;
+  n = std::clamp<std::size_t>(n, anchors.size(), std::numeric_limits<std::uint32_t>::max());
+  set_.heading = options_.heading.enabled;
+  set_.resize(n);
+  Eigen::AlignedBox2d box;
+  for (const Eigen::Vector2d& a : anchors) box.extend(a);
+  origin_ = box.center();
+  if (set_.gait) draw_gait_prior(++step_);
+  if (set_.heading) draw_heading_prior(++step_);  // first: the positions follow each particle's yaw
+  const double sv = options_.init_speed_sigma;
+  const std::uint64_t step = ++step_;
+  const std::size_t h = anchors.size();
+  for_each_particle_chunk(n, [&](std::size_t c, std::size_t b, std::size_t e) {
+    FastRng rng = FastRng::stream(options_.seed, step, 0xA2C40Full + c);
+    for (std::size_t i = b; i < e; ++i) {
+      const double yaw = set_.heading ? static_cast<double>(set_.yaw[i]) : 0.0;
+      const double cy = std::cos(yaw), sy = std::sin(yaw);
+      const Eigen::Vector2d p = anchors[i % h] - Eigen::Vector2d(cy * w.x() - sy * w.y(), sy * w.x() + cy * w.y()) - origin_;
+      set_.x[i] = static_cast<float>(p.x() + sigma_m * rng.normal());
+      set_.y[i] = static_cast<float>(p.y() + sigma_m * rng.normal());
+      set_.vx[i] = static_cast<float>(sv * rng.normal());
+      set_.vy[i] = static_cast<float>(sv * rng.normal());
+    }
+  });
+  pending_yaw_var_ = 0.0;
+  reset_weights_uniform();
+  averages_.reset();
+  consecutive_rejections_ = 0;
+  initialized_ = true;
+  ref_x_ = ref_y_ = 0.0f;
+  compute_moments();
+}
+
 void ParticleFilter::draw_gait_prior(std::uint64_t step) {
   const float s_k = static_cast<float>(options_.gait.scale_sigma0);
   const float s_d = static_cast<float>(options_.gait.heading_offset_sigma0);

@@ -72,6 +72,13 @@ class ParticleFilter final : public PlanarFilter {
   // until its spread has shrunk below converged_sigma_m (one hypothesis left), then the
   // next resampling draws options().particles.
   void initialize_uniform(const Eigen::AlignedBox2d& region, std::size_t n);
+  // Global localisation from one bearing (issue 14): n particles split evenly over the
+  // hypotheses `anchors` (the copies of the frequency class a blob shows); particle i of
+  // anchor a sits where its own heading offset e puts that copy on the blob's bearing,
+  // p = a - Rz(e) w (w: the bearing's ceiling point relative to the body at e = 0), plus
+  // sigma_m of Gaussian spread. Otherwise as initialize_uniform. Empty anchors: no-op.
+  void initialize_around(const std::vector<Eigen::Vector2d>& anchors, const Eigen::Vector2d& w, double sigma_m,
+                         std::size_t n);
   // True while a global set (initialize_uniform) has not yet converged.
   bool localising() const { return set_.size() > options_.particles && !options_.kld.enabled; }
   bool initialized() const override { return initialized_; }

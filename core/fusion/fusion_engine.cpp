@@ -259,7 +259,7 @@ void FusionEngine::apply_frame(const DecodedFrame& f) {
   // loose fix can start the filter; the particles start everywhere (global localisation).
   if (pf_ && !pf_->initialized() && options_.tight_coupling && vlc_->reuses_frequencies()) {
     if (!vlc_->fix(f, fused_R_BtoW())) {
-      start_global(f.t_obs);
+      start_global(f.t_obs, vlc_->likelihood(f, R_BtoW));
       ++stats_.global_starts;
     }
   }
@@ -278,12 +278,28 @@ void FusionEngine::apply_frame(const DecodedFrame& f) {
     const double rms_m = lik.rms_px(e.p.x(), e.p.y(), h.offset_rad) * vlc_ceiling_distance() / vlc_focal_px();
     const double yaw_spread = std::isfinite(h.sigma_rad) ? h.sigma_rad * vlc_ceiling_distance() : 0.0;
     const double allowed = options_.tight_gate_m + 3.0 * std::sqrt(e.cov_p.trace() + yaw_spread * yaw_spread);
-    if (rms_m <= allowed && pf_->weigh(lik) && pf_->normalize_and_resample()) {
+    // While the particles still search the whole map (several copies held at once) their
+    // mean stands between hypotheses: no gate then, every particle weighs its own copy.
+    const bool searching = pf_->localising();
+    if ((searching || rms_m <= allowed) && pf_->weigh(lik) && pf_->normalize_and_resample()) {
       ++stats_.fixes_accepted;
       consecutive_gated_ = 0;
       t_last_fix_ = f.t_obs;
+      if (association_observer_ && lik.has_reused()) {
+        const PlanarEstimate now = pf_->estimate();
+        const double offset = heading_state().offset_rad;
+        AssociationRecord r;
+        r.t_frame = f.t_frame;
+        r.localising = pf_->localising();
+        for (std::size_t i = 0; i < lik.size(); ++i)
+          if (lik.term(i).klass >= 0)
+            r.blobs.push_back({lik.term(i).uv, lik.term(i).klass, lik.associate(i, now.p.x(), now.p.y(), offset)});
+        association_observer_(r);
+      }
       if (t_global_start_ && !pf_->localising()) {  // the global set has gathered on one copy
-        if (!std::isfinite(stats_.global_converged_s)) stats_.global_converged_s = ns_to_seconds(f.t_obs - *t_global_start_);
+        const double after = ns_to_seconds(f.t_obs - *t_global_start_);
+        if (!std::isfinite(stats_.global_converged_s)) stats_.global_converged_s = after;
+        if (!stats_.global_searches.empty()) stats_.global_searches.back().converged_after_s = after;
         t_global_start_.reset();
       }
       // Only a frame that sees the heading directly (two or more LEDs) may move it into
@@ -310,7 +326,7 @@ void FusionEngine::apply_frame(const DecodedFrame& f) {
     // with no LED of its own frequency in view, the restart is global (kidnapping).
     consecutive_gated_ = 0;
     if (vlc_->reuses_frequencies() && !vlc_->fix(f, fused_R_BtoW())) {
-      start_global(f.t_obs);
+      start_global(f.t_obs, lik);
       ++stats_.global_restarts;
       ++stats_.reinitializations;
       return;
@@ -340,14 +356,38 @@ void FusionEngine::apply_frame(const DecodedFrame& f) {
   apply_position(*m);
 }
 
-void FusionEngine::start_global(TimeNs t) {
-  const Eigen::Vector4d b = vlc_->map().bounds();
+void FusionEngine::start_global(TimeNs t, const ReprojectionLikelihood& lik) {
+  if (!filter_->initialized()) t_filter_ = have_imu_ ? t_imu_ : t;
+  t_global_start_ = t;
+  stats_.global_searches.push_back({ns_to_seconds(t), std::numeric_limits<double>::quiet_NaN()});
+  // The blob whose class has the fewest copies: the fewest hypotheses, each with the most
+  // particles. Each copy is a hypothesis; the walk then rules them out one by one.
+  const LedMap& map = vlc_->map();
+  int best = -1;
+  std::size_t copies = std::numeric_limits<std::size_t>::max();
+  for (std::size_t i = 0; i < lik.size(); ++i) {
+    const int k = lik.term(i).klass;
+    if (k < 0 || !lik.ceiling_point(i).allFinite()) continue;
+    const std::size_t n = map.classes()[static_cast<std::size_t>(k)].members.size();
+    if (n < copies) {
+      copies = n;
+      best = static_cast<int>(i);
+    }
+  }
+  if (best >= 0) {
+    std::vector<Eigen::Vector2d> anchors;
+    for (int m : map.classes()[static_cast<std::size_t>(lik.term(static_cast<std::size_t>(best)).klass)].members)
+      anchors.push_back(map.leds()[static_cast<std::size_t>(m)].p_inW.head<2>());
+    // 0.25 m: a 2 deg tilt error or a 0.1 m height error moves the bearing's ceiling point
+    // by under 0.1 m at 2 m; the spread covers it 2.5 times (reasoning, not tuned).
+    pf_->initialize_around(anchors, lik.ceiling_point(static_cast<std::size_t>(best)), 0.25, options_.global_particles);
+    return;
+  }
+  const Eigen::Vector4d b = map.bounds();
   Eigen::AlignedBox2d region(Eigen::Vector2d(b[0], b[1]), Eigen::Vector2d(b[2], b[3]));
   region.min() -= Eigen::Vector2d::Constant(1.0);  // a camera sees LEDs up to ~1 m beyond the outer row
   region.max() += Eigen::Vector2d::Constant(1.0);
-  if (!filter_->initialized()) t_filter_ = have_imu_ ? t_imu_ : t;
   pf_->initialize_uniform(region, options_.global_particles);
-  t_global_start_ = t;
 }
 
 std::optional<PoseHint> FusionEngine::pose_hint(double yaw_offset_rad) {

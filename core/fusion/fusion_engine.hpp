@@ -37,6 +37,22 @@ class FusionEngine final : public FusionStage {
   // few frames a second and returns).
   using FrameObserver = std::function<void(const FrameSample&, const std::vector<LedObservation>&)>;
   void set_frame_observer(FrameObserver observer) { frame_observer_ = std::move(observer); }
+  // Called on the fusion thread after every camera frame with LEDs of reused frequencies
+  // that the particle filter weighed in (issue 14): which copy each such blob is at the
+  // updated estimate (the association the estimate stands for), and whether the filter was
+  // still localising (a global search over the copies). For `run --check-associations`.
+  struct AssociationRecord {
+    TimeNs t_frame = 0;
+    bool localising = false;
+    struct Blob {
+      Eigen::Vector2d uv = Eigen::Vector2d::Zero();
+      int klass = -1;
+      int led_index = -1;  // into the map's leds(); -1: no copy of the class near the estimate
+    };
+    std::vector<Blob> blobs;
+  };
+  using AssociationObserver = std::function<void(const AssociationRecord&)>;
+  void set_association_observer(AssociationObserver observer) { association_observer_ = std::move(observer); }
   // Called from the pose output at most every `interval` (wall clock) with up to `points`
   // particle positions (a strided subsample), for the live view's particle cloud; none
   // for a filter without particles.
@@ -62,7 +78,9 @@ class FusionEngine final : public FusionStage {
   void on_vo_frame(const FrameSample& s);
   void apply_frame(const DecodedFrame& f);
   // Frequency reuse (issue 14): particles over the whole map (+1 m).
-  void start_global(TimeNs t);
+  // A global search over the map: around every copy of the class of the frame's most
+  // telling reused blob (ParticleFilter::initialize_around), else uniform over the map.
+  void start_global(TimeNs t, const ReprojectionLikelihood& lik);
   // The filter's estimate as an association hint for the single-hypothesis paths.
   std::optional<PoseHint> pose_hint(double yaw_offset_rad);
   void apply_position(const PositionMeasurement& m);
@@ -121,6 +139,7 @@ class FusionEngine final : public FusionStage {
   double vo_heading_ = 0.0;
   bool vo_heading_valid_ = false;
   FrameObserver frame_observer_;
+  AssociationObserver association_observer_;
   CloudObserver cloud_observer_;
   std::chrono::milliseconds cloud_interval_{333};
   std::size_t cloud_points_ = 0;

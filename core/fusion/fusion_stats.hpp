@@ -2,6 +2,7 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <vector>
 #include <string>
 
 namespace luxloc {
@@ -45,10 +46,16 @@ struct FusionStats {
   double sigma_yaw_rad = std::numeric_limits<double>::quiet_NaN();
   // Frequency reuse (issue 14): blobs of a reused frequency (the filter chose the copy),
   // global starts (particles over the whole map: no start, no unique LED in view) and
-  // global restarts after a lost track, and the first time the global set converged.
+  // global restarts after a lost track, and each global search: when it began (data
+  // time, s) and how long until the particles gathered on one hypothesis (NaN: never).
   std::uint64_t reused_blobs = 0;
   std::uint64_t global_starts = 0, global_restarts = 0;
-  double global_converged_s = std::numeric_limits<double>::quiet_NaN();  // after the global start
+  double global_converged_s = std::numeric_limits<double>::quiet_NaN();  // the first search's
+  struct GlobalSearch {
+    double t_start_s = 0.0;
+    double converged_after_s = std::numeric_limits<double>::quiet_NaN();
+  };
+  std::vector<GlobalSearch> global_searches;
 };
 
 }  // namespace luxloc

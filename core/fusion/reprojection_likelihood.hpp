@@ -69,6 +69,10 @@ class ReprojectionLikelihood {
     return terms_[i].klass < 0 ? -1 : copy_for(i, x, y, std::cos(e), std::sin(e));
   }
   const ReprojectionTerm& term(std::size_t i) const { return terms_[i]; }
+  // Where reused term i's bearing meets its class's ceiling, relative to the body at yaw
+  // offset 0 (the particle at (x, y, e) looks at (x, y) + Rz(e) w); NaN when it does not
+  // point up at the ceiling or the LED is known.
+  const Eigen::Vector2d& ceiling_point(std::size_t i) const { return ceiling_[i]; }
   // A copy with every reused term replaced by its association at (x, y, e) (the EKF's and
   // the loose fix's single hypothesis); unassociated reused terms are dropped.
   ReprojectionLikelihood resolved(double x, double y, double e, std::size_t* dropped = nullptr) const {

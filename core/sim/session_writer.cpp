@@ -165,6 +165,11 @@ void write_sim_truth(const Simulator& sim, const fs::path& p) {
       fs << "{:" << "start_s" << i.start_s << "stop_s" << (std::isfinite(i.stop_s) ? i.stop_s : -1.0) << "}";
     fs << "]" << "}";
   }
+  if (o.kidnap) {
+    const SimOptions::Kidnap& k = *o.kidnap;
+    fs << "kidnap" << "{" << "start_s" << k.start_s << "end_s" << k.end_s << "from" << "[:" << k.from.x() << k.from.y()
+       << "]" << "to" << "[:" << k.to.x() << k.to.y() << "]" << "}";
+  }
   fs << "peak_dn" << o.render.peak_dn << "black_dn" << o.render.black_dn << "read_noise_dn" << o.render.read_noise_dn;
 }
 

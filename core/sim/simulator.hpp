@@ -41,6 +41,13 @@ struct SimOptions {
   // The walker drawn by `--walker random` (already in the scenario's trajectory; kept here
   // for sim_truth.yaml).
   std::optional<WalkerDraw> walker;
+  // A kidnap in the trajectory (kidnap_trajectory.hpp; the carry is also a blackout), for
+  // sim_truth.yaml: when the device was picked up and put down, and where.
+  struct Kidnap {
+    double start_s = 0.0, end_s = 0.0;
+    Eigen::Vector3d from = Eigen::Vector3d::Zero(), to = Eigen::Vector3d::Zero();
+  };
+  std::optional<Kidnap> kidnap;
 };
 
 class Simulator {
