@@ -173,9 +173,12 @@ int run_plan(const PlanArgs& a) {
   std::printf("  classes: %d needed (DSatur), %d used\n", plan.classes_needed, k);
   std::printf("  min reuse distance: %.2f m (copies of a frequency at least that far apart; conflict %.2f m)\n",
               plan.min_reuse_distance_m, conflict);
-  std::printf("  alias fraction: %.3f (worst shift %.1f, %.1f m: the share of LEDs that shift lands on a copy of "
-              "their own class)\n",
-              plan.alias_fraction, plan.alias_shift.x(), plan.alias_shift.y());
+  if (plan.alias_fraction > 0.0 || plan.alias_shift.squaredNorm() > 0.0)
+    std::printf("  alias fraction: %.3f (worst shift %.1f, %.1f m: the share of LEDs that shift lands on a copy of "
+                "their own class)\n",
+                plan.alias_fraction, plan.alias_shift.x(), plan.alias_shift.y());
+  else
+    std::printf("  alias fraction: 0.000 (no shift lands enough LEDs on LEDs: the layout does not repeat)\n");
   std::printf("  frequencies (Hz, LEDs):");
   for (int c = 0; c < k; ++c)
     std::printf("%s %.1f (%d)", c % 6 == 0 && c > 0 ? "\n                         " : "", freqs[static_cast<std::size_t>(c)],
