@@ -140,6 +140,37 @@ int run_plan(const PlanArgs& a) {
   if (a.classes > band.capacity)
     band_too_narrow("--classes " + std::to_string(a.classes) + " asks for more classes than fit");
 
+  // The planner's neighbour grids (cell 3 x the conflict distance) span the layout's
+  // bounding box: a layout kilometres wide at a small conflict distance would allocate
+  // gigabytes of empty cells. 4 million cells (~100 MB) is a 27 km square at 4.6 m.
+  {
+    Eigen::Vector2d lo = positions.front(), hi = positions.front();
+    for (const auto& q : positions) {
+      lo = lo.cwiseMin(q);
+      hi = hi.cwiseMax(q);
+    }
+    const double reach = 3.0 * conflict;
+    const double cells = (std::floor((hi.x() - lo.x()) / reach) + 1.0) * (std::floor((hi.y() - lo.y()) / reach) + 1.0);
+    if (cells > 4e6)
+      throw InputError(layout.origin, 0, "x/y",
+                       "the layout spans " + fmt("%.0f", hi.x() - lo.x()) + " m x " + fmt("%.0f", hi.y() - lo.y()) +
+                           " m, too wide for the planner at a conflict distance of " + fmt("%.2f", conflict) +
+                           " m: plan each building or floor on its own");
+  }
+  // A bound before the planner's neighbour lists are built (their size grows with the
+  // density): LEDs pairwise closer than the conflict distance need a class each.
+  const LayoutDensity dense = densest_cluster(layout, conflict);
+  if (dense.leds_within > band.capacity || (a.classes > 0 && dense.leds_within > a.classes)) {
+    const Led& c = layout.leds[static_cast<std::size_t>(dense.centre)];
+    const std::string needs = "the layout needs at least " + std::to_string(dense.leds_within) + " classes (" +
+                              std::to_string(dense.leds_within) + " LEDs within " + fmt("%.2f", conflict / 2) +
+                              " m of LED id " + std::to_string(c.id) + " at " + fmt("%.2f", c.p_inW.x()) + ", " +
+                              fmt("%.2f", c.p_inW.y()) + " m, all closer than " + fmt("%.2f", conflict) +
+                              " m to each other)";
+    if (dense.leds_within > band.capacity) band_too_narrow(std::string(1, 'T') + needs.substr(1));
+    throw InputError("--classes", 0, "--classes", std::to_string(a.classes) + " classes are too few: " + needs);
+  }
+
   // The class count: the one asked for, else max(needed, min(capacity, 12)) (and no more
   // classes than LEDs). DSatur's count comes from the planner itself: a first plan at the
   // target count, and only when that is too few a plan at the needed count.

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <set>
 #include <string_view>
+#include <unordered_map>
 
 #include "core/common/csv_reader.hpp"
 #include "core/common/input_error.hpp"
@@ -27,6 +28,14 @@ bool parses_as_number(std::string_view s) {
   double v = 0.0;
   const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
   return !s.empty() && ec == std::errc() && ptr == s.data() + s.size();
+}
+
+void check_coordinates(const Led& l, const std::string& file, int line, const std::string& where) {
+  for (int k = 0; k < 3; ++k)
+    if (!(std::abs(l.p_inW[k]) <= kMaxLayoutCoordinate))
+      throw InputError(file, line, std::string(1, "xyz"[k]),
+                       where + (where.empty() ? "" : ": ") + "beyond +-" + std::to_string(static_cast<long>(kMaxLayoutCoordinate)) +
+                           " m (a coordinate in metres is expected)");
 }
 
 void finish(LedLayout& layout) {
@@ -81,6 +90,7 @@ LedLayout read_led_layout_csv(const std::string& path, std::optional<double> cei
       l.id = static_cast<int>(layout.leds.size()) + 1;
     }
     l.freq_hz = 0.0;
+    check_coordinates(l, path, r.line(), "");
     layout.leds.push_back(l);
   }
   finish(layout);
@@ -132,6 +142,7 @@ LedLayout read_led_layout_yaml(const std::string& path, std::optional<double> ce
     l.half_power_angle_deg = number(n, "half_power_angle_deg", label, l.half_power_angle_deg, false);
     l.power = number(n, "power", label, l.power, false);
     l.freq_hz = 0.0;  // ignored: the plan assigns it
+    check_coordinates(l, path, 0, label);
     layout.leds.push_back(l);
   }
   finish(layout);
@@ -164,6 +175,8 @@ LedLayout grid_led_layout(const std::string& spec, std::optional<double> ceiling
     }
     if (!(v[2] > 0.0)) throw bad(std::string(axis) + ": the step must be > 0");
     if (v[1] < v[0]) throw bad(std::string(axis) + ": the end is below the start");
+    if (std::abs(v[0]) > kMaxLayoutCoordinate || std::abs(v[1]) > kMaxLayoutCoordinate)
+      throw bad(std::string(axis) + ": beyond +-" + std::to_string(static_cast<long>(kMaxLayoutCoordinate)) + " m");
     const double steps = std::floor((v[1] - v[0]) / v[2] + 1e-9);
     if (steps + 1.0 > static_cast<double>(kMaxLayoutLeds)) throw bad(std::string(axis) + ": too many lights");
     return Range{v[0], v[1], v[2], static_cast<std::size_t>(steps) + 1};
@@ -187,6 +200,47 @@ LedLayout grid_led_layout(const std::string& spec, std::optional<double> ceiling
     }
   finish(layout);
   return layout;
+}
+
+LayoutDensity densest_cluster(const LedLayout& layout, double conflict_distance_m) {
+  LayoutDensity out;
+  const double r = 0.5 * conflict_distance_m;
+  if (layout.leds.empty() || !(r > 0.0)) return out;
+  // Sparse cells (hashed by the cell index, compared exactly): the extent does not matter.
+  // Coordinates are within kMaxLayoutCoordinate (checked by the readers), r >= 1e-6 here.
+  using Cell = std::pair<std::int64_t, std::int64_t>;
+  struct CellHash {
+    std::size_t operator()(const Cell& c) const {
+      return std::hash<std::uint64_t>{}(static_cast<std::uint64_t>(c.first) * 0x9E3779B97F4A7C15ULL ^
+                                        static_cast<std::uint64_t>(c.second));
+    }
+  };
+  const double rr = std::max(r, 1e-6);
+  const auto key = [rr](double x, double y) {
+    return Cell{static_cast<std::int64_t>(std::floor(x / rr)), static_cast<std::int64_t>(std::floor(y / rr))};
+  };
+  std::unordered_map<Cell, std::vector<int>, CellHash> cells;
+  for (std::size_t i = 0; i < layout.leds.size(); ++i)
+    cells[key(layout.leds[i].p_inW.x(), layout.leds[i].p_inW.y())].push_back(static_cast<int>(i));
+  for (std::size_t i = 0; i < layout.leds.size(); ++i) {
+    const Eigen::Vector2d p = layout.leds[i].p_inW.head<2>();
+    const auto [cx, cy] = key(p.x(), p.y());
+    int count = 0;
+    for (std::int64_t y = cy - 1; y <= cy + 1; ++y)
+      for (std::int64_t x = cx - 1; x <= cx + 1; ++x) {
+        const auto it = cells.find(Cell{x, y});
+        if (it == cells.end()) continue;
+        for (int j : it->second) {
+          const Eigen::Vector2d q = layout.leds[static_cast<std::size_t>(j)].p_inW.head<2>();
+          if ((q - p).norm() < r) ++count;
+        }
+      }
+    if (count > out.leds_within) {
+      out.leds_within = count;
+      out.centre = static_cast<int>(i);
+    }
+  }
+  return out;
 }
 
 }  // namespace luxloc

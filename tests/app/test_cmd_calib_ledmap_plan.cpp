@@ -216,6 +216,11 @@ TEST_CASE("calib ledmap plan: bad layouts and options exit 2 naming the file, li
   CHECK(r.exit_code == 2);
   CHECK(r.output.find("step must be > 0") != std::string::npos);
 
+  write_text(dir / "wide.csv", "x,y\n0,0\n200000,200000\n");  // 200 km apart: not one floor
+  r = plan("--layout '" + (dir / "wide.csv").string() + "' --ceiling-height 3 --camera '" + cam + "'" + out);
+  CHECK(r.exit_code == 2);
+  CHECK(r.output.find("wide.csv: field 'x/y': the layout spans 200000 m x 200000 m") != std::string::npos);
+
   r = plan("--camera '" + cam + "'" + out);  // neither a layout nor a grid
   CHECK(r.exit_code == 2);
   CHECK(r.output.find("exactly one of --layout") != std::string::npos);
@@ -267,7 +272,13 @@ TEST_CASE("calib ledmap plan: too few classes, or a band too narrow, exit 2 sayi
   r = run_luxloc("calib ledmap plan --grid 0:6:0.5,0:6:0.5 --ceiling-height 3 --camera '" + mid + "'" + out);
   CHECK(r.output.find("5 classes fit") != std::string::npos);
   CHECK(r.exit_code == 2);
-  CHECK(r.output.find("The layout needs") != std::string::npos);
+  CHECK(r.output.find("mid/camera.yaml: field 'exposure_us': The layout needs at least") != std::string::npos);
   CHECK(r.output.find("LEDs farther apart") != std::string::npos);
+  // A 1 m grid under the 100 us camera: 21 LEDs within 2.29 m of one, so --classes 12 is
+  // refused before any colouring (the band holds 33).
+  r = run_luxloc("calib ledmap plan --grid 0:10:1,0:10:1 --ceiling-height 3 --classes 12 --camera '" + cam + "'" + out);
+  CHECK(r.exit_code == 2);
+  CHECK(r.output.find("--classes: field '--classes': 12 classes are too few: the layout needs at least 21 classes") !=
+        std::string::npos);
   CHECK_FALSE(std::filesystem::exists(dir / "out.yaml"));
 }

@@ -104,6 +104,11 @@ TEST_CASE("LED layout CSV errors: bad number (line, field), no header, no z, dup
     const InputError e = layout_error(dir, "layout.txt", "x,y\n1,1\n");
     CHECK(e.field() == "--layout");
   }
+  {
+    const InputError e = layout_error(dir, "far.csv", "x,y\n1,1\n2,-3e6\n");  // 3000 km: not metres
+    CHECK(e.line() == 3);
+    CHECK(e.field() == "y");
+  }
 }
 
 TEST_CASE("LED layout YAML: ids, positions and light fields kept, frequencies ignored", "[calib][plan]") {
@@ -164,4 +169,31 @@ TEST_CASE("LED layout grid: inclusive ranges, ids row by row, bad specs named", 
     }
   }
   CHECK_THROWS_AS(grid_led_layout("0:10:2.5,0:10:2.5", std::nullopt), InputError);
+}
+
+TEST_CASE("LED layout density: the most LEDs within half the conflict distance of one (a class bound)",
+          "[calib][plan]") {
+  // 2.5 m grid: a 4.58 m conflict distance (half 2.29 m) holds one LED; 5.2 m (2.6 m) the
+  // centre and its 4 neighbours (at 2.5 m; the diagonals at 3.54 m are out).
+  const LedLayout g = grid_led_layout("0:20:2.5,0:20:2.5", 3.0);
+  CHECK(densest_cluster(g, 4.58).leds_within == 1);
+  const LayoutDensity d = densest_cluster(g, 5.2);
+  CHECK(d.leds_within == 5);
+  REQUIRE(d.centre >= 0);
+  const Led& c = g.leds[static_cast<std::size_t>(d.centre)];
+  CHECK((c.p_inW.x() > 0.0 && c.p_inW.x() < 20.0 && c.p_inW.y() > 0.0 && c.p_inW.y() < 20.0));  // not an edge LED
+  // A cluster of 7 (with a repeated position) in a sparse layout spread over 100 km.
+  LedLayout l;
+  for (int i = 0; i < 6; ++i) {
+    Led led;
+    led.p_inW = {50000.0 + 0.3 * i, -20000.0, 3.0};
+    l.leds.push_back(led);
+  }
+  l.leds.push_back(l.leds.back());
+  Led far;
+  far.p_inW = {-50000.0, 30000.0, 3.0};
+  l.leds.push_back(far);
+  CHECK(densest_cluster(l, 4.0).leds_within == 7);
+  CHECK(densest_cluster(l, 0.1).leds_within == 2);  // only the repeated position
+  CHECK(densest_cluster(LedLayout{}, 4.0).leds_within == 0);
 }
