@@ -126,6 +126,42 @@ TEST_CASE("calib ledmap plan: a 60 m x 30 m floor (2.5 m grid) in 12 classes, no
   CHECK(views_with_two_of_a_class(LedMap(one, "one"), camera, 1.0, 15.0 * kPi / 180.0, 200, 11) > 15);  // 33 of 200: two lights of the grid in one image
 }
 
+TEST_CASE("calib ledmap plan: an irregular office (jittered rooms, a dense corridor) is valid from every sampled pose",
+          "[calib][vlc][plan]") {
+  const auto dir = plan_dir("office");
+  const std::string cam = write_camera(dir);
+  // 60 m x 30 m: rooms lit on a 2.5 m grid with up to 0.4 m of placement error, a corridor
+  // along y = 15 m lit every 1.5 m (denser than the rooms), ceilings 2.9-3.1 m.
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> jitter(-0.4, 0.4), dz(-0.1, 0.1);
+  std::string csv = "x,y,z\n";
+  int n = 0;
+  const auto add = [&](double x, double y) {
+    csv += std::to_string(x) + "," + std::to_string(y) + "," + std::to_string(3.0 + dz(rng)) + "\n";
+    ++n;
+  };
+  for (int iy = 0; iy < 12; ++iy)
+    for (int ix = 0; ix < 24; ++ix) {
+      const double y = 1.25 + 2.5 * iy;
+      if (std::abs(y - 15.0) < 1.5) continue;  // the corridor's band
+      add(1.25 + 2.5 * ix + jitter(rng), y + jitter(rng));
+    }
+  for (double x = 0.75; x < 60.0; x += 1.5) add(x, 15.0);
+  write_text(dir / "office.csv", csv);
+  const auto out = dir / "office.yaml";
+  const auto r = run_luxloc("calib ledmap plan --layout '" + (dir / "office.csv").string() + "' --camera '" + cam +
+                            "' --out '" + out.string() + "'");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  CHECK(printed(r.output, R"(classes: \d+ needed \(DSatur\), (\d+) used)") == 12);
+  const LedMap map = LedMap::load(out.string());
+  REQUIRE(static_cast<int>(map.size()) == n);
+  CHECK(map.min_reuse_distance_m() >= printed(r.output, R"(conflict distance: ([0-9.]+) m)") - 0.01);
+  const CameraModel camera = CameraModel::load(cam);
+  CHECK_NOTHROW(check_frequency_reuse(map, camera, 1.0, out.string()));
+  CHECK(views_with_two_of_a_class(map, camera, 1.0, 15.0 * kPi / 180.0, 20000, 13) == 0);
+}
+
 TEST_CASE("calib ledmap plan: CSV and YAML layouts keep their ids and heights", "[calib][vlc][plan]") {
   const auto dir = plan_dir("layouts");
   const std::string cam = write_camera(dir);
