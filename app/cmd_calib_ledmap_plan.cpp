@@ -167,7 +167,7 @@ int run_plan(const PlanArgs& a) {
                               " m of LED id " + std::to_string(c.id) + " at " + fmt("%.2f", c.p_inW.x()) + ", " +
                               fmt("%.2f", c.p_inW.y()) + " m, all closer than " + fmt("%.2f", conflict) +
                               " m to each other)";
-    if (dense.leds_within > band.capacity) band_too_narrow(std::string(1, 'T') + needs.substr(1));
+    if (dense.leds_within > band.capacity) band_too_narrow("Too many LEDs close together: " + needs);
     throw InputError("--classes", 0, "--classes", std::to_string(a.classes) + " classes are too few: " + needs);
   }
 
@@ -193,7 +193,7 @@ int run_plan(const PlanArgs& a) {
                            std::to_string(plan.classes_needed) + " or more (up to " + std::to_string(band.capacity) +
                            "), or 0 for the default");
     if (plan.classes_needed > band.capacity)
-      band_too_narrow("The layout needs " + std::to_string(plan.classes_needed) + " classes");
+      band_too_narrow("Too many LEDs close together: " + needs);
   }
   const double plan_s = seconds_since(t_plan);
   const int k = plan.classes;

@@ -308,8 +308,13 @@ TEST_CASE("calib ledmap plan: too few classes, or a band too narrow, exit 2 sayi
   r = run_luxloc("calib ledmap plan --grid 0:6:0.5,0:6:0.5 --ceiling-height 3 --camera '" + mid + "'" + out);
   CHECK(r.output.find("5 classes fit") != std::string::npos);
   CHECK(r.exit_code == 2);
-  CHECK(r.output.find("mid/camera.yaml: field 'exposure_us': The layout needs at least") != std::string::npos);
+  CHECK(r.output.find("mid/camera.yaml: field 'exposure_us': Too many LEDs close together: the layout needs at least") != std::string::npos);
   CHECK(r.output.find("LEDs farther apart") != std::string::npos);
+  // A 2 m grid passes that bound (5 LEDs within 2.29 m of one) but DSatur needs more than 5.
+  r = run_luxloc("calib ledmap plan --grid 0:20:2,0:20:2 --ceiling-height 3 --camera '" + mid + "'" + out);
+  CHECK(r.exit_code == 2);
+  CHECK(std::regex_search(r.output, std::regex("mid/camera.yaml: field 'exposure_us': Too many LEDs close together: "
+                                               "the layout needs ([6-9]|1[0-9]) classes \\(LEDs closer than 4.58 m")));
   // A 1 m grid under the 100 us camera: 21 LEDs within 2.29 m of one, so --classes 12 is
   // refused before any colouring (the band holds 33).
   r = run_luxloc("calib ledmap plan --grid 0:10:1,0:10:1 --ceiling-height 3 --classes 12 --camera '" + cam + "'" + out);
