@@ -5,7 +5,9 @@
 //   refine  LED positions by least squares over all bearing rays of a recorded session with
 //           known poses (ground truth or a trusted run), per-LED residuals, a corrected map;
 //   check   a map against a session: LEDs never seen, drifting or inseparable frequencies
-//           (with the spacing the decoder needs), LEDs whose observed position disagrees.
+//           (with the spacing the decoder needs), LEDs whose observed position disagrees;
+//   plan    frequencies for a floor of lights, reused out of each other's view
+//           (app/cmd_calib_ledmap_plan.cpp).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -305,7 +307,7 @@ int run_survey(const SurveyArgs& a) {
 }  // namespace
 
 void add_calib_ledmap(CLI::App& calib, Action& action) {
-  CLI::App* cmd = calib.add_subcommand("ledmap", "LED map: survey lights, refine positions from a session, check a map");
+  CLI::App* cmd = calib.add_subcommand("ledmap", "LED map: survey lights, refine positions from a session, check a map, plan frequencies");
   cmd->require_subcommand(1);
 
   auto r = std::make_shared<RefineArgs>();
@@ -342,6 +344,8 @@ void add_calib_ledmap(CLI::App& calib, Action& action) {
   survey->add_option("--min-hz", s->min_hz, "lowest frequency searched")->capture_default_str();
   survey->add_option("--max-hz", s->max_hz, "highest frequency searched")->capture_default_str();
   survey->callback([s, &action] { action = [s] { return run_survey(*s); }; });
+
+  add_calib_ledmap_plan(*cmd, action);  // app/cmd_calib_ledmap_plan.cpp
 }
 
 }  // namespace luxloc::app

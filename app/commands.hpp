@@ -20,6 +20,8 @@ void add_compare_command(CLI::App& root, Action& action);
 void add_record_command(CLI::App& root, Action& action);
 // `calib ledmap` (app/cmd_calib_ledmap.cpp), registered under `calib`.
 void add_calib_ledmap(CLI::App& calib, Action& action);
+// `calib ledmap plan` (app/cmd_calib_ledmap_plan.cpp), registered under `calib ledmap`.
+void add_calib_ledmap_plan(CLI::App& ledmap, Action& action);
 // `calib rowtime` (app/cmd_calib_rowtime.cpp), registered under `calib`.
 void add_calib_rowtime(CLI::App& calib, Action& action);
 // `calib uwb` (app/cmd_calib_uwb.cpp), registered under `calib`.
