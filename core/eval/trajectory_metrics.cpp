@@ -162,6 +162,15 @@ std::string format_eval_summary(const EvalResult& r) {
   return s;
 }
 
+double settle_time_s(const EvalResult& r, double limit_m) {
+  double t = std::numeric_limits<double>::quiet_NaN();
+  for (auto it = r.errors.rbegin(); it != r.errors.rend(); ++it) {
+    if (!(it->err_m < limit_m)) break;
+    t = ns_to_seconds(it->t);
+  }
+  return t;
+}
+
 std::string format_eval_report(const EvalResult& r) {
   std::string s;
   const double t0 = ns_to_seconds(r.truth_t0), t1 = ns_to_seconds(r.truth_t1);

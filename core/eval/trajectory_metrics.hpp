@@ -64,6 +64,11 @@ struct EvalResult {
   std::vector<PoseError> errors;  // the evaluated poses, in time order
 };
 
+// Settling (issue 14's convergence and kidnap recovery): the time of the first evaluated
+// pose after which every error stays below limit_m to the end; NaN when the last pose is
+// not below it.
+double settle_time_s(const EvalResult& r, double limit_m);
+
 // `truth` must be in strictly increasing time order (read_truth_csv guarantees it; throws
 // std::invalid_argument otherwise); `poses` may be in any order.
 EvalResult evaluate(const std::vector<TruthRow>& truth, const std::vector<PoseRow>& poses,

@@ -160,7 +160,7 @@ void ParticleFilter::initialize_uniform(const Eigen::AlignedBox2d& region, std::
 }
 
 void ParticleFilter::initialize_around(const std::vector<Eigen::Vector2d>& anchors, const Eigen::Vector2d& w,
-                                       double sigma_m, std::size_t n) {
+                                       double sigma_m, std::size_t n, double yaw_mean, double yaw_sigma) {
   if (anchors.empty() || !w.allFinite() || !(sigma_m >= 0.0)) return;
   n = std::clamp<std::size_t>(n, anchors.size(), std::numeric_limits<std::uint32_t>::max());
   set_.heading = options_.heading.enabled;
@@ -169,7 +169,7 @@ void ParticleFilter::initialize_around(const std::vector<Eigen::Vector2d>& ancho
   for (const Eigen::Vector2d& a : anchors) box.extend(a);
   origin_ = box.center();
   if (set_.gait) draw_gait_prior(++step_);
-  if (set_.heading) draw_heading_prior(++step_);  // first: the positions follow each particle's yaw
+  if (set_.heading) draw_heading_prior(++step_, yaw_mean, yaw_sigma);  // first: positions follow each yaw
   const double sv = options_.init_speed_sigma;
   const std::uint64_t step = ++step_;
   const std::size_t h = anchors.size();
@@ -210,15 +210,16 @@ void ParticleFilter::draw_gait_prior(std::uint64_t step) {
   });
 }
 
-void ParticleFilter::draw_heading_prior(std::uint64_t step) {
-  const float s_e = static_cast<float>(options_.heading.sigma0_rad);
+void ParticleFilter::draw_heading_prior(std::uint64_t step, double mean, double sigma) {
+  const float s_e = static_cast<float>(std::isfinite(sigma) ? sigma : options_.heading.sigma0_rad);
+  const float m_e = static_cast<float>(std::isfinite(mean) ? mean : 0.0);
   for_each_particle_chunk(set_.size(), [&](std::size_t c, std::size_t b, std::size_t e) {
     LaneRng rng(options_.seed, step, 0x4EAD0000ull + c);
     alignas(32) float noise[kBlock];
     for (std::size_t blk = b; blk < e; blk += kBlock) {
       const std::size_t len = std::min(kBlock, e - blk);
       rng.fill_normal(noise, LaneRng::round_up(len, 16));
-      MapF(set_.yaw.data() + blk, idx(len)) = s_e * CMapU(noise, idx(len));
+      MapF(set_.yaw.data() + blk, idx(len)) = m_e + s_e * CMapU(noise, idx(len));
     }
   });
 }

@@ -14,6 +14,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "core/filter/genetic_resampler.hpp"
@@ -76,9 +77,11 @@ class ParticleFilter final : public PlanarFilter {
   // hypotheses `anchors` (the copies of the frequency class a blob shows); particle i of
   // anchor a sits where its own heading offset e puts that copy on the blob's bearing,
   // p = a - Rz(e) w (w: the bearing's ceiling point relative to the body at e = 0), plus
-  // sigma_m of Gaussian spread. Otherwise as initialize_uniform. Empty anchors: no-op.
+  // sigma_m of Gaussian spread; heading offsets ~ N(yaw_mean, yaw_sigma) (yaw_sigma NaN:
+  // the heading prior's sigma0). Otherwise as initialize_uniform. Empty anchors: no-op.
   void initialize_around(const std::vector<Eigen::Vector2d>& anchors, const Eigen::Vector2d& w, double sigma_m,
-                         std::size_t n);
+                         std::size_t n, double yaw_mean = 0.0,
+                         double yaw_sigma = std::numeric_limits<double>::quiet_NaN());
   // True while a global set (initialize_uniform) has not yet converged.
   bool localising() const { return set_.size() > options_.particles && !options_.kld.enabled; }
   bool initialized() const override { return initialized_; }
@@ -170,7 +173,8 @@ class ParticleFilter final : public PlanarFilter {
   void reset_weights_uniform();
   void predict_gait(const MotionInput& u);
   void draw_gait_prior(std::uint64_t step);  // k ~ N(1, sigma0), d ~ N(0, sigma0)
-  void draw_heading_prior(std::uint64_t step);  // e ~ N(0, sigma0)
+  void draw_heading_prior(std::uint64_t step, double mean = 0.0,
+                          double sigma = std::numeric_limits<double>::quiet_NaN());  // e ~ N(mean, sigma or sigma0)
   // Random walk of the yaw offsets (HeadingNoise). A random walk is additive, so the
   // predictions only add up its variance and the particles take it in one draw before the
   // next weighing or estimate (flush_heading_walk): a 200 Hz IMU then costs no extra pass.

@@ -268,6 +268,21 @@ void FusionEngine::apply_frame(const DecodedFrame& f) {
     // particle picks the copies of reused frequencies its own pose points at).
     const ReprojectionLikelihood lik = vlc_->likelihood(f, R_BtoW);
     if (lik.size() == 0) return;
+    // A prior too wide to name the copies (3 sigma beyond a reused blob's capture radius:
+    // two copies of its class inside the cloud, after a long time in the dark) is no prior:
+    // one frame would collapse the cloud onto whichever copy its particles reach first. A
+    // global search instead, which holds every copy until the walk tells them apart.
+    if (!pf_->localising() && lik.has_reused()) {
+      const std::optional<PoseHint> prior = pose_hint(heading_state().offset_rad);
+      for (std::size_t i = 0; i < lik.size() && prior; ++i) {
+        const int k = lik.term(i).klass;
+        if (k < 0 || 3.0 * prior->sigma_m < vlc_->capture_radius(k)) continue;
+        start_global(f.t_obs, lik);
+        ++stats_.global_restarts;
+        ++stats_.reinitializations;
+        break;
+      }
+    }
     ++stats_.vlc_fixes;
     for (std::size_t i = 0; i < lik.size(); ++i) stats_.reused_blobs += lik.term(i).klass >= 0 ? 1 : 0;
     // Gate: the mean particle's reprojection error, in metres at the ceiling distance,
@@ -280,8 +295,32 @@ void FusionEngine::apply_frame(const DecodedFrame& f) {
     const double allowed = options_.tight_gate_m + 3.0 * std::sqrt(e.cov_p.trace() + yaw_spread * yaw_spread);
     // While the particles still search the whole map (several copies held at once) their
     // mean stands between hypotheses: no gate then, every particle weighs its own copy.
+    // Tempered too (likelihood^(1/9), the pixel sigma x 3): two copies' hypotheses that
+    // both explain the blobs within a few pixels (the heading is free while searching) stay
+    // until a new LED tells them apart, instead of one winning on noise in a few frames.
     const bool searching = pf_->localising();
-    if ((searching || rms_m <= allowed) && pf_->weigh(lik) && pf_->normalize_and_resample()) {
+    // A search is not gated, but it can have lost every copy (the true one thinned out, or
+    // a kidnap during it): then no particle explains the frame (each blob beyond the
+    // outlier distance at a stride of 256 particles) and the tempered weights are flat.
+    // As many such frames in a row as a tracking filter may gate: the search starts again.
+    if (searching) {
+      bool explained = false;
+      const std::size_t n = pf_->size(), stride = std::max<std::size_t>(1, n / 256);
+      for (std::size_t i = 0; i < n && !explained; i += stride) {
+        const Eigen::Vector2d p = pf_->position(i);
+        explained = lik.rms_px(p.x(), p.y(), pf_->yaw_offset(i)) < lik.outlier_px();
+      }
+      if (explained) {
+        consecutive_unexplained_ = 0;
+      } else if (++consecutive_unexplained_ >= options_.pf.max_consecutive_rejections) {
+        consecutive_unexplained_ = 0;
+        start_global(f.t_obs, lik);
+        ++stats_.global_restarts;
+        ++stats_.reinitializations;
+      }
+    }
+    if ((searching || rms_m <= allowed) && pf_->weigh(searching ? lik.tempered(1.0 / 9.0) : lik) &&
+        pf_->normalize_and_resample()) {
       ++stats_.fixes_accepted;
       consecutive_gated_ = 0;
       t_last_fix_ = f.t_obs;
@@ -291,9 +330,13 @@ void FusionEngine::apply_frame(const DecodedFrame& f) {
         AssociationRecord r;
         r.t_frame = f.t_frame;
         r.localising = pf_->localising();
-        for (std::size_t i = 0; i < lik.size(); ++i)
-          if (lik.term(i).klass >= 0)
-            r.blobs.push_back({lik.term(i).uv, lik.term(i).klass, lik.associate(i, now.p.x(), now.p.y(), offset)});
+        const std::optional<PoseHint> hint = pose_hint(offset);
+        for (std::size_t i = 0; i < lik.size(); ++i) {
+          const int k = lik.term(i).klass;
+          if (k < 0) continue;
+          r.localising = r.localising || !hint || 3.0 * hint->sigma_m >= vlc_->capture_radius(k);
+          r.blobs.push_back({lik.term(i).uv, k, lik.associate(i, now.p.x(), now.p.y(), offset)});
+        }
         association_observer_(r);
       }
       if (t_global_start_ && !pf_->localising()) {  // the global set has gathered on one copy
@@ -380,7 +423,17 @@ void FusionEngine::start_global(TimeNs t, const ReprojectionLikelihood& lik) {
       anchors.push_back(map.leds()[static_cast<std::size_t>(m)].p_inW.head<2>());
     // 0.25 m: a 2 deg tilt error or a 0.1 m height error moves the bearing's ceiling point
     // by under 0.1 m at 2 m; the spread covers it 2.5 times (reasoning, not tuned).
-    pf_->initialize_around(anchors, lik.ceiling_point(static_cast<std::size_t>(best)), 0.25, options_.global_particles);
+    // Headings: a restart keeps the filter's offset and spreads it over 3 of its sigmas (at
+    // least the prior's): after a kidnap in the dark the yaw has drifted unobserved, and a
+    // search that does not hold the true heading settles on a wrong copy.
+    double yaw_mean = 0.0, yaw_sigma = options_.pf.heading.sigma0_rad;
+    if (pf_->initialized()) {
+      const HeadingState h = heading_state();
+      if (std::isfinite(h.offset_rad)) yaw_mean = h.offset_rad;
+      if (std::isfinite(h.sigma_rad)) yaw_sigma = std::max(yaw_sigma, 3.0 * h.sigma_rad);
+    }
+    pf_->initialize_around(anchors, lik.ceiling_point(static_cast<std::size_t>(best)), 0.25, options_.global_particles,
+                           yaw_mean, yaw_sigma);
     return;
   }
   const Eigen::Vector4d b = map.bounds();

@@ -40,7 +40,8 @@ class FusionEngine final : public FusionStage {
   // Called on the fusion thread after every camera frame with LEDs of reused frequencies
   // that the particle filter weighed in (issue 14): which copy each such blob is at the
   // updated estimate (the association the estimate stands for), and whether the filter was
-  // still localising (a global search over the copies). For `run --check-associations`.
+  // still localising: a global search over the copies, or a spread too wide to name a copy
+  // (3 sigma beyond a blob's capture radius). For `run --check-associations`.
   struct AssociationRecord {
     TimeNs t_frame = 0;
     bool localising = false;
@@ -114,6 +115,7 @@ class FusionEngine final : public FusionStage {
   double ceiling_distance_m_ = 2.0;
   double focal_px_ = 500.0;
   int consecutive_gated_ = 0;
+  int consecutive_unexplained_ = 0;  // frames no particle of a global search explains
   std::optional<TimeNs> t_global_start_;  // the running global localisation began
   double vlc_ceiling_distance() const { return ceiling_distance_m_; }
   double vlc_focal_px() const { return focal_px_; }

@@ -94,6 +94,14 @@ class ReprojectionLikelihood {
     if (dropped) *dropped = lost;
     return ReprojectionLikelihood(camera_, M_, offset_, z_B_, std::move(fixed), std::sqrt(outlier2_));
   }
+  // The likelihood raised to the power f (every term's weight scaled by f): f < 1 flattens
+  // it, so that near-equal hypotheses of a global search are not decided by a pixel of
+  // noise before the walk shows which one is right.
+  ReprojectionLikelihood tempered(double f) const {
+    ReprojectionLikelihood t = *this;
+    for (ReprojectionTerm& x : t.terms_) x.inv_var *= f;
+    return t;
+  }
   // True when some term still needs a per-particle association.
   bool has_reused() const {
     for (const ReprojectionTerm& t : terms_)
@@ -148,6 +156,8 @@ class ReprojectionLikelihood {
     return n ? std::sqrt(s / n) : 0.0;
   }
   std::size_t size() const { return terms_.size(); }
+  // Beyond this pixel error a blob counts as an outlier (the flattened tail).
+  double outlier_px() const { return std::sqrt(outlier2_); }
 
   // Inverse of the model for initialisation: the body (x, y) that puts term i's LED exactly
   // on its observed pixel (the bearing ray meets the LED's height above z_B). nullopt when

@@ -99,6 +99,8 @@ ReprojectionLikelihood VlcFrontend::resolved_likelihood(const DecodedFrame& fram
 const LedMap& VlcFrontend::map() const { return state_->map; }
 bool VlcFrontend::reuses_frequencies() const { return state_->map.reuses_frequencies(); }
 
+double VlcFrontend::capture_radius(int klass) const { return state_->index.capture_radius(klass); }
+
 std::optional<YawMeasurement> VlcFrontend::yaw_offset(const DecodedFrame& frame, const Eigen::Matrix3d& R_BtoW,
                                                      const std::optional<PoseHint>& hint) const {
   // Each LED's bearing through R_BtoW, met with its height, gives the horizontal vector

@@ -65,6 +65,9 @@ class VlcFrontend {
   // The map index of LED i of the frame's likelihood(), once resolved (for yaw_offset).
   const LedMap& map() const;
   bool reuses_frequencies() const;
+  // Half the class's reuse distance (LedClassIndex::capture_radius): a pose known to
+  // better than that names the copy.
+  double capture_radius(int klass) const;
 
  private:
   struct State;

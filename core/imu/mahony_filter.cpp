@@ -6,7 +6,15 @@
 
 namespace luxloc {
 
-MahonyFilter::MahonyFilter(const MahonyOptions& options) : options_(options), still_(options.still) {}
+namespace {
+StillOptions attitude_still_options(const MahonyOptions& o) {
+  StillOptions s = o.still;
+  s.check_mag_turn = o.still_checks_mag_turn;
+  return s;
+}
+}  // namespace
+
+MahonyFilter::MahonyFilter(const MahonyOptions& options) : options_(options), still_(attitude_still_options(options)) {}
 
 void MahonyFilter::set_mag_reference(const Eigen::Vector3d& mag_inB, const Eigen::Vector3d& up_inB) {
   mag_ref_norm_ = mag_inB.norm();
@@ -104,7 +112,12 @@ void MahonyFilter::update(const ImuSample& s) {
     ++rejected_;
     return;
   }
+  const bool was_still = still_.still();
   still_.update(s);
+  // A still run that turned out to be a slow turn (the field turned in the body): its mean
+  // rate was the turn, not the bias; back to the bias before it.
+  if (was_still && !still_.still() && still_.last_run_was_turn()) bias_ = bias_before_still_;
+  if (!was_still && still_.still()) bias_before_still_ = bias_;
   dt = std::min(dt, options_.max_dt_s);
   t_ = s.t;
 

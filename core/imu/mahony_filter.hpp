@@ -83,6 +83,9 @@ struct MahonyOptions {
   // means a 1 s standstill yields >= 60 samples of mean (noise / sqrt(60)).
   bool bias_at_rest = true;
   StillOptions still;
+  // The bias at rest must not learn a slow smooth turn (a carried bag): the still test also
+  // asks the magnetometer whether the field turns in the body (StillOptions::check_mag_turn).
+  bool still_checks_mag_turn = true;
 };
 
 // The defaults, for code that wants to name them (`luxloc imu --help`, docs).
@@ -167,6 +170,7 @@ class MahonyFilter {
   AhrsRejections rejections_;
   bool last_mag_rejected_ = false, last_acc_rejected_ = false;
   StillDetector still_;
+  Eigen::Vector3d bias_before_still_ = Eigen::Vector3d::Zero();  // restored when a still run was a slow turn
   // Magnetic reference: magnitude (sensor units) and dip (angle below the horizon).
   bool mag_ref_valid_ = false;
   double mag_ref_norm_ = 0.0, mag_ref_dip_ = 0.0;

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include <Eigen/Geometry>
+
 namespace luxloc {
 
 StillDetector::StillDetector(const StillOptions& options) : options_(options) {}
@@ -13,6 +15,42 @@ void StillDetector::reset() {
   still_since_ = t_last_ = 0;
   run_sum_g_.setZero();
   run_n_ = 0;
+  mag_buckets_.clear();
+  mag_sum_.setZero();
+  mag_acc_sum_.setZero();
+  mag_n_ = 0;
+  turning_ = false;
+}
+
+void StillDetector::add_mag(const ImuSample& s) {
+  if (!options_.check_mag_turn || !s.has_mag || !s.mag_inB.allFinite() || s.mag_inB.squaredNorm() < 1e-6) return;
+  if (mag_n_ == 0) mag_bucket_start_ = s.t;
+  mag_sum_ += s.mag_inB;
+  mag_acc_sum_ += s.acc_inB;
+  ++mag_n_;
+  if (s.t - mag_bucket_start_ < seconds_to_ns(options_.mag_bucket_s)) return;
+  // The field's horizontal part (perpendicular to the mean specific force, "up" at rest):
+  // its direction turns by the full heading change, where the whole field's turns only by
+  // the horizontal share (about half at mid-latitudes).
+  const Eigen::Vector3d up = mag_acc_sum_.normalized();
+  const Eigen::Vector3d m = mag_sum_ / static_cast<double>(mag_n_);
+  const Eigen::Vector3d h = m - m.dot(up) * up;
+  mag_sum_.setZero();
+  mag_acc_sum_.setZero();
+  mag_n_ = 0;
+  if (!(h.norm() > 0.1 * m.norm())) return;  // near a magnetic pole: no heading in the field
+  mag_buckets_.push_back({mag_bucket_start_ + (s.t - mag_bucket_start_) / 2, h.normalized()});
+  const TimeNs span_ns = seconds_to_ns(options_.mag_turn_span_s);
+  while (mag_buckets_.size() > 2 && mag_buckets_.back().t - mag_buckets_[1].t >= span_ns) mag_buckets_.pop_front();
+  // Against every older mean, not only the oldest: a device swinging back and forth
+  // comes back to where it was.
+  turning_ = false;
+  const MagBucket& b = mag_buckets_.back();
+  for (std::size_t i = 0; i + 1 < mag_buckets_.size() && !turning_; ++i) {
+    const MagBucket& a = mag_buckets_[i];
+    const double angle = std::atan2(a.dir.cross(b.dir).norm(), a.dir.dot(b.dir));
+    turning_ = angle > options_.mag_turn_max_rps * ns_to_seconds(b.t - a.t) + options_.mag_turn_noise_rad;
+  }
 }
 
 void StillDetector::recompute_sums() {
@@ -37,6 +75,7 @@ bool StillDetector::update(const ImuSample& s) {
     // Time went backwards: start over rather than mix two timelines.
     reset();
   }
+  add_mag(s);
   window_.push_back({s.t, s.gyro_inB, s.acc_inB});
   sum_g_ += s.gyro_inB;
   sum_gg_ += s.gyro_inB.cwiseAbs2();
@@ -55,7 +94,8 @@ bool StillDetector::update(const ImuSample& s) {
     if (++pops_since_recompute_ > 4096) recompute_sums();
   }
   full = full || (s.t - window_.front().t >= window_ns);
-  const bool now_still = full && evaluate();
+  const bool now_still = full && evaluate() && !turning_;
+  if (still_ && !now_still) last_run_was_turn_ = turning_;
   if (now_still && !still_) {
     still_since_ = s.t;
     run_sum_g_ = sum_g_;

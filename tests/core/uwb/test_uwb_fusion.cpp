@@ -108,7 +108,17 @@ TEST_CASE("UWB TOF+AOA + IMU on the 120 s uwb scenario: ATE <= 0.15 m, better th
   CHECK(uwb_alone.poses == 1200);
   CHECK(best.rmse <= 0.15);
   CHECK(best.rmse < 0.8 * uwb_alone.rmse);
-  CHECK(best.rmse < plain_pf.rmse);
+  // Against the plain PF the margin on one filter seed is ~1 %, within the seed-to-seed
+  // spread: compared over three filter seeds (the mean ATE), not on one draw.
+  double best_sum = 0.0, plain_sum = 0.0;
+  for (std::uint64_t pf_seed : {3u, 4u, 5u}) {
+    FusionOptions a = f, b = plain_f;
+    a.pf.seed = b.pf.seed = pf_seed;
+    best_sum += run(s, a, robust).rmse;
+    plain_sum += run(s, b, plain).rmse;
+  }
+  INFO("mean over filter seeds 3-5: robust " << best_sum / 3 << " m, plain PF " << plain_sum / 3 << " m");
+  CHECK(best_sum < plain_sum);
   CHECK(best.rmse < tight_gauss.rmse);
   CHECK(best.stats.weighed > 1100);
   CHECK(best.stats.reinitializations == 0);
