@@ -97,3 +97,32 @@ TEST_CASE("luxloc eval: bad input exits 2 naming the problem", "[io]") {
   CHECK(r.exit_code == 2);
   CHECK_THAT(r.output, Catch::Contains("x.png"));
 }
+
+TEST_CASE("luxloc eval --from/--to/--settle: a window of the poses and when the error settles", "[io]") {
+  // Truth along x at 1 m/s; the estimate 5 m off until 3 s, 0.5 m off until 6 s, then 0.1 m.
+  const auto dir = scratch_dir("io_cmd_eval_settle");
+  std::string truth = "t,x,y\n", poses = "t,x,y\n";
+  char buf[96];
+  for (int i = 0; i <= 100; ++i) {
+    std::snprintf(buf, sizeof buf, "%.2f,%.3f,0\n", 0.1 * i, 0.1 * i);
+    truth += buf;
+    const double t = 0.1 * i, off = t < 3.0 ? 5.0 : t < 6.0 ? 0.5 : 0.1;
+    std::snprintf(buf, sizeof buf, "%.2f,%.3f,%.3f\n", t, t, off);
+    poses += buf;
+  }
+  write_text(dir / "groundtruth.csv", truth);
+  write_text(dir / "poses.csv", poses);
+  const std::string files = " --truth " + q(dir / "groundtruth.csv") + " " + q(dir / "poses.csv");
+  const auto a = run_luxloc("eval --settle 0.2" + files);
+  INFO(a.output);
+  CHECK_THAT(a.output, Catch::Contains("settled          below 0.2 m from t = 6.00 s (6.00 s after the first evaluated pose)"));
+  const auto b = run_luxloc("eval --settle 1 --from 2 --json" + files);
+  INFO(b.output);
+  CHECK_THAT(b.output, Catch::Contains("\"settled_t\":3.000000"));
+  CHECK_THAT(b.output, Catch::Contains("\"settled_after_s\":1.000000"));
+  CHECK_THAT(b.output, Catch::Contains("\"n\":81"));
+  const auto c = run_luxloc("eval --settle 0.05 --to 8 --json" + files);  // never below 5 cm
+  CHECK_THAT(c.output, Catch::Contains("\"settled_t\":null"));
+  const auto bad = run_luxloc("eval --from 5 --to 4" + files);
+  CHECK(bad.exit_code == 2);
+}
