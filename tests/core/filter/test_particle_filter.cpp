@@ -65,6 +65,9 @@ TEST_CASE("Particle filter gives bit-identical particles whatever the thread cou
   ParticleFilterOptions opt;
   opt.particles = 20000;  // several 4096-particle chunks
   SECTION("SIR, systematic") {}
+  SECTION("SIR, systematic, every correction (ancestors and gather in one pass)") {
+    opt.resample_every_correction = true;
+  }
   SECTION("SIR, stratified, every correction") {
     opt.scheme = ResamplingScheme::Stratified;
     opt.resample_every_correction = true;
@@ -309,6 +312,47 @@ TEST_CASE("Particle filter's chunked systematic resampling copies each particle 
   INFO("worst |copies - n w| = " << worst);
   REQUIRE(worst < 1.0 + 1e-3);
   for (std::size_t i = 0; i < pf.size(); ++i) REQUIRE(pf.position(i).x() <= 3.8);  // dead never copied
+}
+
+TEST_CASE("Particle filter's systematic resampling spreads one chunk's many children over threads, identically", "[filter]") {
+  // Every weight in the first 4096-particle chunk (the others dead): that chunk's
+  // particles get all 40000 children, which its pieces copy in parallel; the particles
+  // and the estimate must not depend on the thread count, and no dead particle is copied.
+  ParticleFilterOptions opt;
+  opt.particles = 40000;
+  opt.resample_every_correction = true;
+  ParticleFilter one(opt), many(opt);
+  const auto peaked = [&](ParticleFilter& pf) {
+    pf.initialize({0, 0}, Eigen::Matrix2d::Identity());
+    // Mark the particles of the first chunk by their x: a likelihood that is alive only
+    // for those x values.
+    std::set<float> alive(pf.particles().x.begin(), pf.particles().x.begin() + 4096);
+    REQUIRE(pf.weigh([&](double x, double) {
+      return alive.count(static_cast<float>(x)) ? -x * x : -std::numeric_limits<double>::infinity();
+    }));
+    REQUIRE(pf.normalize_and_resample());
+    REQUIRE(pf.resample_count() == 1);
+    // Each child sits within the (bounded, triangular) roughening of a live parent.
+    const float reach = 2.5f * static_cast<float>(opt.roughening_m);
+    std::size_t orphans = 0;
+    for (std::size_t i = 0; i < pf.size(); ++i) {
+      const float x = pf.particles().x[i];
+      const auto it = alive.lower_bound(x - reach);
+      if (it == alive.end() || *it > x + reach) ++orphans;
+    }
+    REQUIRE(orphans == 0);
+  };
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+    peaked(one);
+  }
+  peaked(many);
+  REQUIRE(one.size() == opt.particles);
+  REQUIRE(one.particles().x == many.particles().x);
+  REQUIRE(one.particles().y == many.particles().y);
+  REQUIRE(one.particles().vx == many.particles().vx);
+  REQUIRE(one.estimate().p == many.estimate().p);
+  REQUIRE(one.estimate().cov_p == many.estimate().cov_p);
 }
 
 TEST_CASE("A refused update between a weighing and the resampling changes nothing", "[filter]") {
