@@ -36,6 +36,7 @@ class ReprojectionLikelihood {
   ReprojectionLikelihood(const CameraModel& camera, const Eigen::Matrix3d& R_BtoW, double z_B,
                          std::vector<ReprojectionTerm> terms, double outlier_px = 25.0, ReuseAssociation reuse = {})
       : camera_(camera), terms_(std::move(terms)), z_B_(z_B), reuse_(reuse) {
+    cache_camera();
     M_ = camera.R_CtoB.transpose() * R_BtoW.transpose();  // world offset -> camera frame
     offset_ = camera.R_CtoB.transpose() * camera.p_CinB;
     outlier2_ = outlier_px * outlier_px;
@@ -101,7 +102,8 @@ class ReprojectionLikelihood {
   // attitude is Rz(e) R_BtoW (the particle's yaw offset of the AHRS, heading_noise.hpp), so
   // a world offset reaches the camera as M Rz(-e) (p_L - p_B).
   double operator()(double x, double y, double e = 0.0) const {
-    const double c = std::cos(e), s = std::sin(e);
+    double c, s;
+    turn(e, c, s);
     double ll = 0.0;
     for (std::size_t i = 0; i < terms_.size(); ++i) {
       const ReprojectionTerm& t = terms_[i];
@@ -113,7 +115,7 @@ class ReprojectionLikelihood {
       const Eigen::Vector3d d = *p_L - Eigen::Vector3d(x, y, z_B_);
       const Eigen::Vector3d p_LinC = M_ * Eigen::Vector3d(c * d.x() + s * d.y(), -s * d.x() + c * d.y(), d.z()) - offset_;
       Eigen::Vector2d uv;
-      if (!camera_.project(p_LinC, uv)) {
+      if (!project(p_LinC, uv)) {
         ll -= 0.5 * outlier2_ * t.inv_var;
         continue;
       }
@@ -162,7 +164,50 @@ class ReprojectionLikelihood {
  private:
   ReprojectionLikelihood(const CameraModel& camera, const Eigen::Matrix3d& M, const Eigen::Vector3d& offset, double z_B,
                          std::vector<ReprojectionTerm> terms, double outlier_px)
-      : camera_(camera), terms_(std::move(terms)), M_(M), offset_(offset), z_B_(z_B), outlier2_(outlier_px * outlier_px) {}
+      : camera_(camera), terms_(std::move(terms)), M_(M), offset_(offset), z_B_(z_B), outlier2_(outlier_px * outlier_px) {
+    cache_camera();
+  }
+
+  // The per-particle hot path (issue 14's bench: sincos, the out-of-line projection and a
+  // 3 x 3 grid search were most of a particle's weighing): the camera's intrinsics cached,
+  // the projection inlined (the same arithmetic as CameraModel::project, so the same
+  // pixels), and the yaw offset's turn by a polynomial where offsets live.
+  void cache_camera() {
+    fx_ = camera_.fx;
+    fy_ = camera_.fy;
+    cx_ = camera_.cx;
+    cy_ = camera_.cy;
+    for (int k = 0; k < 5; ++k) dist_[k] = camera_.dist[static_cast<std::size_t>(k)];
+    distorted_ = camera_.has_distortion();
+  }
+  bool project(const Eigen::Vector3d& p_inC, Eigen::Vector2d& uv) const {
+    if (p_inC.z() <= 1e-9) return false;
+    double x = p_inC.x() / p_inC.z(), y = p_inC.y() / p_inC.z();
+    if (distorted_) {
+      const double* d = dist_;
+      const double r2 = x * x + y * y;
+      const double radial = 1 + d[0] * r2 + d[1] * r2 * r2 + d[4] * r2 * r2 * r2;
+      const double xd = x * radial + 2 * d[2] * x * y + d[3] * (r2 + 2 * x * x);
+      const double yd = y * radial + d[2] * (r2 + 2 * y * y) + 2 * d[3] * x * y;
+      x = xd;
+      y = yd;
+    }
+    uv = {fx_ * x + cx_, fy_ * y + cy_};
+    return true;
+  }
+  // cos and sin of a yaw offset: Taylor series to e^12 / e^11 for |e| < 0.25 rad (the
+  // offsets the heading feedback keeps; truncation < 3e-18, below double rounding), libm
+  // beyond.
+  static void turn(double e, double& c, double& s) {
+    if (std::abs(e) < 0.25) {
+      const double e2 = e * e;
+      s = e * (1.0 + e2 * (-1.0 / 6 + e2 * (1.0 / 120 + e2 * (-1.0 / 5040 + e2 * (1.0 / 362880 + e2 * (-1.0 / 39916800))))));
+      c = 1.0 + e2 * (-0.5 + e2 * (1.0 / 24 + e2 * (-1.0 / 720 + e2 * (1.0 / 40320 + e2 * (-1.0 / 3628800 + e2 * (1.0 / 479001600))))));
+    } else {
+      c = std::cos(e);
+      s = std::sin(e);
+    }
+  }
 
   int copy_for(std::size_t i, double x, double y, double c, double s) const {
     const Eigen::Vector2d& w = ceiling_[i];
@@ -180,6 +225,8 @@ class ReprojectionLikelihood {
   double outlier2_;
   ReuseAssociation reuse_;
   std::vector<Eigen::Vector2d> ceiling_;  // per term: w of the association (NaN: none)
+  double fx_ = 1, fy_ = 1, cx_ = 0, cy_ = 0, dist_[5] = {};
+  bool distorted_ = false;
 };
 
 }  // namespace luxloc

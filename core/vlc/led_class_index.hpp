@@ -6,8 +6,9 @@
 // lies in the 3x3 cells around the query; a class of one LED answers without a grid.
 // Also: every LED within a radius (calib ledmap check, the simulator's renderer).
 //
-// Memory: one int per LED plus one per cell (cells at least 0.5 m): a 5000-LED map over
-// 200 m x 100 m with 12 classes stays under a few MB.
+// Memory: one int per LED plus one per cell (cells at least 0.5 m), and the capture rasters
+// (one int per raster cell plus ~20 per LED): a 5000-LED map over 200 m x 100 m with 12
+// classes stays under a few MB.
 #include <Eigen/Core>
 #include <vector>
 
@@ -38,11 +39,23 @@ class LedClassIndex {
     template <typename F>
     void visit(double x, double y, double r, F&& f) const;
   };
+  // Capture raster (the per-particle association's fast path, queries within the capture
+  // radius): cells of half the capture radius, each listing the copies whose
+  // capture disc touches it (one, two or three near the boundaries between discs), so the
+  // copy within the capture radius of a point is among the few of the point's own cell:
+  // one cell lookup instead of a 3 x 3 search.
+  struct Raster {
+    double x0 = 0, y0 = 0, inv_cell = 1;
+    int nx = 0, ny = 0;
+    std::vector<int> start, items;  // CSR as Grid
+  };
   struct ClassGrid {
     int single = -1;  // the member of a class of one
     double capture_m = 0.0;
     Grid grid;
+    Raster raster;  // empty (nx == 0) when it would be too large: the grid answers
   };
+  static Raster make_raster(const std::vector<Eigen::Vector2d>& pts, const std::vector<int>& ids, double capture);
   static Grid make_grid(const std::vector<Eigen::Vector2d>& pts, const std::vector<int>& ids, const Eigen::Vector4d& b,
                         double cell);
 
