@@ -744,16 +744,18 @@ std::pair<std::size_t, std::size_t> ParticleFilter::place_children(const std::ve
   // Branch-free placement: particle i's first child is ceil(cum_{i-1} - u); mark that
   // child with i + 1 (a later particle with the same first child — the earlier one
   // has none — overwrites it), then a running maximum gives every child the last
-  // particle marked at or before it.
-  std::uint32_t* anc = ancestors_.data() + kb;
+  // particle marked at or before it. Chunk c's children [kb, ke) sit at kb + c in
+  // ancestors_ (sized m + chunks), so each chunk has a slot of its own past its last
+  // child: the sink that dead particles and rounding overshoots mark, without a branch.
+  std::uint32_t* anc = ancestors_.data() + kb + c;
   const std::size_t count = ke - kb;
-  std::fill(anc, anc + count, 0u);
+  std::fill(anc, anc + count + 1, 0u);
   using simd8::F8;
   using simd8::I8;
   const F8 fcount = simd8::splat(static_cast<float>(count));
+  const I8 icount = I8{} + static_cast<std::int32_t>(count);
   const float norm = static_cast<float>(log_norm_);
   const float fm = static_cast<float>(m);
-  std::uint32_t sink = 0;
   double base = C[c] - u - static_cast<double>(kb);  // in children, relative to kb: (-1, 0]
   const std::size_t e8 = b + (e - b) / 8 * 8;
   std::size_t i = b;
@@ -768,15 +770,13 @@ std::pair<std::size_t, std::size_t> ParticleFilter::place_children(const std::ve
     // ceil(before) for before > -1.
     I8 first = __builtin_convertvector(before, I8);
     first = __builtin_convertvector(first, F8) < before ? first + 1 : first;
-    // A dead particle, or one past the chunk's last child, marks a local sink.
+    // A dead particle, or one past the chunk's last child, marks the sink (slot count).
     const I8 valid = (w > 0.0f) & (__builtin_convertvector(first, F8) < fcount);
-    alignas(32) std::int32_t fl[8], vl[8];
-    std::memcpy(fl, &first, sizeof fl);
-    std::memcpy(vl, &valid, sizeof vl);
-    for (int l = 0; l < 8; ++l) {
-      std::uint32_t* dst = vl[l] ? anc + std::max(fl[l], 0) : &sink;
-      *dst = static_cast<std::uint32_t>(i + static_cast<std::size_t>(l) + 1);
-    }
+    first = first < 0 ? I8{} : first;
+    const I8 slot = valid ? first : icount;
+    alignas(32) std::int32_t sl[8];
+    std::memcpy(sl, &slot, sizeof sl);
+    for (int l = 0; l < 8; ++l) anc[sl[l]] = static_cast<std::uint32_t>(i + static_cast<std::size_t>(l) + 1);
     base += static_cast<double>(p[7]);
   }
   for (; i < e; ++i) {
@@ -815,17 +815,25 @@ std::pair<std::size_t, std::size_t> ParticleFilter::place_children(const std::ve
 void ParticleFilter::systematic_ancestors(std::size_t m, std::uint64_t step) {
   double u = 0.0;
   const std::vector<double> C = systematic_bounds(m, step, u);
-  ancestors_.resize(m);
+  const std::size_t chunks = particle_chunks(set_.size());
+  ancestors_.resize(m + chunks);
+  std::vector<std::pair<std::size_t, std::size_t>> ranges(chunks);
   for_each_particle_chunk(set_.size(), [&](std::size_t c, std::size_t b, std::size_t e) {
-    place_children(C, u, m, c, b, e);
+    ranges[c] = place_children(C, u, m, c, b, e);
   });
+  // Close the sink slots: chunk c's children move down by c (in chunk order: dst < src).
+  for (std::size_t c = 1; c < chunks; ++c)
+    if (ranges[c].second > ranges[c].first)
+      std::memmove(ancestors_.data() + ranges[c].first, ancestors_.data() + ranges[c].first + c,
+                   (ranges[c].second - ranges[c].first) * sizeof(std::uint32_t));
+  ancestors_.resize(m);
 }
 
-void ParticleFilter::gather_block(std::size_t k0, std::size_t len, LaneRng& rng, double* mom) {
-  // Copies children [k0, k0 + len) (len <= kBlock) from their ancestors into scratch_,
-  // roughens them and adds their moments.
+void ParticleFilter::gather_block(const std::uint32_t* anc, std::size_t k0, std::size_t len, LaneRng& rng,
+                                  double* mom) {
+  // Copies children [k0, k0 + len) (len <= kBlock) from their ancestors anc[0, len) into
+  // scratch_, roughens them and adds their moments.
   alignas(32) float noise[2 * kBlock];
-  const std::uint32_t* anc = ancestors_.data() + k0;
   float* sx = scratch_.x.data() + k0;
   float* sy = scratch_.y.data() + k0;
   float* svx = scratch_.vx.data() + k0;
@@ -834,12 +842,26 @@ void ParticleFilter::gather_block(std::size_t k0, std::size_t len, LaneRng& rng,
   const float* py = set_.y.data();
   const float* pvx = set_.vx.data();
   const float* pvy = set_.vy.data();
-  for (std::size_t k = 0; k < len; ++k) {
-    const std::uint32_t i = anc[k];
-    sx[k] = px[i];
-    sy[k] = py[i];
-    svx[k] = pvx[i];
-    svy[k] = pvy[i];
+  const bool yaw_with = set_.heading && !set_.gait;  // the common case: one loop for all five
+  if (yaw_with) {
+    const float* pe = set_.yaw.data();
+    float* se = scratch_.yaw.data() + k0;
+    for (std::size_t k = 0; k < len; ++k) {
+      const std::uint32_t i = anc[k];
+      sx[k] = px[i];
+      sy[k] = py[i];
+      svx[k] = pvx[i];
+      svy[k] = pvy[i];
+      se[k] = pe[i];
+    }
+  } else {
+    for (std::size_t k = 0; k < len; ++k) {
+      const std::uint32_t i = anc[k];
+      sx[k] = px[i];
+      sy[k] = py[i];
+      svx[k] = pvx[i];
+      svy[k] = pvy[i];
+    }
   }
   if (set_.gait) {
     float* sk = scratch_.ks.data() + k0;
@@ -850,7 +872,7 @@ void ParticleFilter::gather_block(std::size_t k0, std::size_t len, LaneRng& rng,
       sd[k] = set_.dpsi[i];
     }
   }
-  if (set_.heading) {
+  if (set_.heading && !yaw_with) {
     float* se = scratch_.yaw.data() + k0;
     for (std::size_t k = 0; k < len; ++k) se[k] = set_.yaw[anc[k]];
   }
@@ -896,7 +918,8 @@ void ParticleFilter::gather(std::uint64_t step) {
   for_each_particle_chunk(m, [&](std::size_t c, std::size_t b, std::size_t e) {
     LaneRng rng(options_.seed, step, c);
     double mom[8] = {};
-    for (std::size_t blk = b; blk < e; blk += kBlock) gather_block(blk, std::min(kBlock, e - blk), rng, mom);
+    for (std::size_t blk = b; blk < e; blk += kBlock)
+      gather_block(ancestors_.data() + blk, blk, std::min(kBlock, e - blk), rng, mom);
     moments_[c] = Moments{mom[0], mom[1], mom[2], mom[3], mom[4], mom[5], mom[6], mom[7]};
   });
   finish_resample(step);
@@ -912,9 +935,9 @@ void ParticleFilter::resample_systematic(std::size_t m, std::uint64_t step) {
   // threads.
   double u = 0.0;
   const std::vector<double> C = systematic_bounds(m, step, u);
-  ancestors_.resize(m);
-  prepare_scratch(m);
   const std::size_t n = set_.size();
+  ancestors_.resize(m + particle_chunks(n));  // chunk c's children at kb + c (place_children)
+  prepare_scratch(m);
   moments_.assign(particle_chunks(n), Moments{});
   for_each_particle_chunk(n, [&](std::size_t c, std::size_t b, std::size_t e) {
     const auto [kb, ke] = place_children(C, u, m, c, b, e);
@@ -922,7 +945,8 @@ void ParticleFilter::resample_systematic(std::size_t m, std::uint64_t step) {
     const auto piece = [&](std::size_t p, double* mom) {
       LaneRng rng(options_.seed, step, (static_cast<std::uint64_t>(p) << 32) | c);
       const std::size_t pb = kb + p * kParticleChunk, pe = std::min(ke, pb + kParticleChunk);
-      for (std::size_t blk = pb; blk < pe; blk += kBlock) gather_block(blk, std::min(kBlock, pe - blk), rng, mom);
+      for (std::size_t blk = pb; blk < pe; blk += kBlock)
+        gather_block(ancestors_.data() + blk + c, blk, std::min(kBlock, pe - blk), rng, mom);
     };
     Moments total;
     if (pieces <= 2) {

@@ -161,13 +161,14 @@ class ParticleFilter final : public PlanarFilter {
   void inject_random(std::uint64_t step);
   // Systematic resampling: chunk boundaries of the scaled cumulative weight (u: the offset).
   std::vector<double> systematic_bounds(std::size_t children, std::uint64_t step, double& u) const;
-  // Ancestors of parent chunk c's children into ancestors_; returns their range [kb, ke).
+  // Ancestors of parent chunk c's children into ancestors_ from kb + c (one sink slot per
+  // chunk past its children); returns their range [kb, ke).
   std::pair<std::size_t, std::size_t> place_children(const std::vector<double>& C, double u, std::size_t children,
                                                      std::size_t c, std::size_t b, std::size_t e);
   void systematic_ancestors(std::size_t children, std::uint64_t step);
   void resample_systematic(std::size_t children, std::uint64_t step);  // ancestors + gather, one pass
   void prepare_scratch(std::size_t children);
-  void gather_block(std::size_t k0, std::size_t len, LaneRng& rng, double* moments);
+  void gather_block(const std::uint32_t* anc, std::size_t k0, std::size_t len, LaneRng& rng, double* moments);
   void gather(std::uint64_t step);
   void finish_resample(std::uint64_t step);
   void compute_moments() const;  // weighted pass over the current set
