@@ -88,7 +88,9 @@ class ParticleFilter final : public PlanarFilter {
   // Multiplies every particle's weight by exp(log_likelihood(x, y)) (world coordinates,
   // doubles) — the generic measurement update (tight coupling passes a reprojection
   // likelihood here) — and normalises. A likelihood callable as (x, y, yaw_offset) gets
-  // the particle's yaw offset too (0 without the heading state). Returns false and leaves
+  // the particle's yaw offset too (0 without the heading state); one with a block method
+  // log_likelihood_block(ox, oy, x, y, e, n, out) (ReprojectionLikelihood) is called a block
+  // of origin-relative particles at a time instead. Returns false and leaves
   // the weights alone when every particle's likelihood underflows (-inf or NaN).
   template <typename LogLikelihood>
   bool weigh(const LogLikelihood& log_likelihood);
@@ -153,6 +155,9 @@ class ParticleFilter final : public PlanarFilter {
   // loglik(i) -> log-likelihood of particle i (float); the parallel weighing pass.
   template <typename PerParticle>
   bool weigh_particles(const PerParticle& loglik);
+  // block(i, len, out): log-likelihoods of particles [i, i + len) (len <= 256) into out.
+  template <typename Block>
+  bool weigh_blocks(const Block& block);
   // Partial sums of exp(log_w - chunk max) over one chunk.
   static ChunkWeights exp_chunk(const float* log_w, std::size_t n);
   bool commit_weights();  // combine chunk_w_next_ into the normaliser; false: all dead

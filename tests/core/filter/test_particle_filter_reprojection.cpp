@@ -78,3 +78,56 @@ TEST_CASE("Particle filter weighs with a reprojection likelihood and follows its
   // One LED fixes the position (the yaw offsets are small, the attitude level).
   CHECK((pf.estimate().p - p_B.head<2>()).norm() < 0.05);
 }
+
+TEST_CASE("Reprojection block path (eight particles at a time, single precision) agrees with operator()", "[filter][reprojection]") {
+  CameraModel cam = sim::default_sim_camera();
+  cam.dist = {-0.05, 0.01, 0.001, -0.002, 0.003};
+  // A reuse floor: 1000 Hz at x = 0, 8, 16 (8 m reuse), 1600 Hz at (4, 5), one 2200 Hz LED.
+  std::vector<Led> leds;
+  const auto add = [&](int id, double f, double x, double y) {
+    Led l;
+    l.id = id;
+    l.freq_hz = f;
+    l.p_inW = {x, y, 3.0};
+    leds.push_back(l);
+  };
+  add(1, 1000, 0, 0);
+  add(2, 1000, 8, 0);
+  add(3, 1000, 16, 0);
+  add(4, 1600, 4, 5);
+  add(5, 1600, 12, 5);
+  add(6, 2200, 6, 2);
+  const LedMap map(std::move(leds), "m");
+  const LedClassIndex index(map);
+  const double z_B = 1.0, ox = 7.3, oy = -0.4;  // particles relative to an origin, as the filter keeps them
+  std::vector<ReprojectionTerm> terms;
+  terms.push_back({Eigen::Vector3d::Zero(), Eigen::Vector2d(330, 250), 0.25, map.class_of(0)});  // reused
+  terms.push_back({Eigen::Vector3d::Zero(), Eigen::Vector2d(200, 100), 0.25, map.class_of(3)});  // reused
+  terms.push_back({map.leds()[5].p_inW, Eigen::Vector2d(420, 300), 0.5, -1});                    // known
+  terms.push_back({Eigen::Vector3d::Zero(), Eigen::Vector2d(320, 470), 0.25, map.class_of(0)});  // steep ray
+  const ReprojectionLikelihood lik(cam, Eigen::Matrix3d::Identity(), z_B, terms, 10.0, ReuseAssociation{&map, &index});
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> ux(-9.0, 10.0), uy(-3.0, 6.0), ue(-0.2, 0.2);
+  const std::size_t n = 1003;  // not a multiple of eight
+  std::vector<float> x(n), y(n), e(n), out(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    x[k] = static_cast<float>(ux(rng));
+    y[k] = static_cast<float>(uy(rng));
+    e[k] = static_cast<float>(k % 7 == 0 ? 2.0 * ue(rng) + 0.3 : ue(rng));  // some beyond 0.25 rad
+  }
+  lik.log_likelihood_block(ox, oy, x.data(), y.data(), e.data(), n, out.data());
+  std::size_t differ = 0;
+  double worst = 0.0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const double want = lik(ox + x[k], oy + y[k], e[k]);
+    const double err = std::abs(out[k] - want) / std::max(1.0, std::abs(want));
+    if (err > 1e-4) ++differ;  // an association at a capture boundary
+    else worst = std::max(worst, err);
+  }
+  INFO("worst relative error " << worst << ", " << differ << " differ");
+  CHECK(differ <= 2);
+  CHECK(worst < 1e-4);
+  // Without yaw offsets (e null) the same as e = 0.
+  lik.log_likelihood_block(ox, oy, x.data(), y.data(), nullptr, n, out.data());
+  for (std::size_t k = 0; k < n; k += 17) CHECK(out[k] == Approx(lik(ox + x[k], oy + y[k], 0.0)).epsilon(1e-4).margin(1e-3));
+}
