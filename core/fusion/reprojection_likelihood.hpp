@@ -178,7 +178,7 @@ class ReprojectionLikelihood {
           dz = splat(static_cast<float>(t.p_LinW.z() - z_B_));
         } else {
           const Eigen::Vector2d& w = ceiling_[i];
-          if (!std::isfinite(w.x()) || !leds) {  // no association for any particle
+          if (!std::isfinite(w.x()) || !leds || !reuse_.index) {  // no association for any particle
             ll -= splat(half_iv * o2 * 2.0f);
             continue;
           }
