@@ -1,5 +1,6 @@
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <map>
 #include <set>
@@ -374,4 +375,41 @@ TEST_CASE("A refused update between a weighing and the resampling changes nothin
   REQUIRE(a.estimate().p == b.estimate().p);
   // Posterior mean: prior N(0, 0.04), likelihood N(0.2, 0.005): 0.2 * 0.04 / 0.045 = 0.178.
   REQUIRE(a.estimate().p.x() == Approx(0.178).margin(0.01));
+}
+
+TEST_CASE("Global set (initialize_uniform): the fused resampling keeps its size until one hypothesis, then shrinks, identically on any thread count", "[filter]") {
+  ParticleFilterOptions opt;
+  opt.particles = 2000;
+  opt.resample_every_correction = true;
+  const Eigen::AlignedBox2d floor(Eigen::Vector2d(0, 0), Eigen::Vector2d(60, 30));
+  const auto run = [&](ParticleFilter& pf, std::vector<std::size_t>& sizes) {
+    pf.initialize_uniform(floor, 30000);
+    REQUIRE(pf.localising());
+    // Two hypotheses 20 m apart, then only the first: the set keeps 30000 while both live.
+    const auto two = [](double x, double y) {
+      const double a = (x - 10) * (x - 10) + (y - 10) * (y - 10), b = (x - 30) * (x - 30) + (y - 10) * (y - 10);
+      return -std::min(a, b) / (2 * 0.3 * 0.3);
+    };
+    const auto one = [](double x, double y) { return -((x - 10) * (x - 10) + (y - 10) * (y - 10)) / (2 * 0.3 * 0.3); };
+    for (int k = 0; k < 6; ++k) {
+      pf.predict(MotionInput{0.05, {0.0, 0.0}, true});
+      REQUIRE(pf.weigh(k < 3 ? std::function<double(double, double)>(two) : std::function<double(double, double)>(one)));
+      REQUIRE(pf.normalize_and_resample());
+      sizes.push_back(pf.size());
+    }
+  };
+  ParticleFilter a(opt), b(opt);
+  std::vector<std::size_t> sa, sb;
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+    run(a, sa);
+  }
+  run(b, sb);
+  REQUIRE(sa == sb);
+  CHECK(sa.front() == 30000);  // two hypotheses: still global
+  CHECK(sa.back() == 2000);    // one left: the normal count
+  CHECK_FALSE(a.localising());
+  REQUIRE(a.particles().x == b.particles().x);
+  REQUIRE(a.particles().y == b.particles().y);
+  CHECK((a.estimate().p - Eigen::Vector2d(10, 10)).norm() < 0.1);
 }
