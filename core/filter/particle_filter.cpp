@@ -451,11 +451,12 @@ void ParticleFilter::predict(const MotionInput& u) {
   finish_estimate(moments_);
 }
 
-ParticleFilter::ChunkWeights ParticleFilter::exp_chunk(const float* log_w, std::size_t n) {
+ParticleFilter::ChunkWeights ParticleFilter::exp_chunk(const float* log_w, std::size_t n, float* lin) {
   ChunkWeights r;
   r.max = CMapF(log_w, idx(n)).maxCoeff();
   if (!(r.max > kNegInf)) {
     r.max = kNegInf;
+    std::fill(lin, lin + n, 0.0f);
     return r;
   }
   using simd8::F8;
@@ -463,6 +464,7 @@ ParticleFilter::ChunkWeights ParticleFilter::exp_chunk(const float* log_w, std::
   F8 s{}, s2{};
   for (std::size_t i = 0; i < n8; i += 8) {
     const F8 e = simd8::exp_nonpositive(simd8::load(log_w + i) - r.max);
+    simd8::store(lin + i, e);
     s += e;
     s2 += e * e;
   }
@@ -472,9 +474,10 @@ ParticleFilter::ChunkWeights ParticleFilter::exp_chunk(const float* log_w, std::
   }
   for (std::size_t i = n8; i < n; ++i) {
     const float d = log_w[i] - r.max;
-    const double e = d > kExpFloor ? std::exp(static_cast<double>(d)) : 0.0;
+    const float e = d > kExpFloor ? std::exp(d) : 0.0f;
+    lin[i] = e;
     r.sum += e;
-    r.sum2 += e * e;
+    r.sum2 += static_cast<double>(e) * e;
   }
   return r;
 }
@@ -504,6 +507,7 @@ bool ParticleFilter::commit_weights() {
   }
   if (!(sum > 0.0) || !std::isfinite(sum) || !(sum2 > 0.0)) return false;
   std::swap(chunk_w_, chunk_w_next_);
+  std::swap(lin_w_, lin_w_next_);
   // log of the prior-weighted mean likelihood (the prior was normalised).
   log_norm_ = static_cast<double>(M) + std::log(sum);
   log_w_max_ = M;
@@ -754,13 +758,16 @@ std::pair<std::size_t, std::size_t> ParticleFilter::place_children(const std::ve
   using simd8::I8;
   const F8 fcount = simd8::splat(static_cast<float>(count));
   const I8 icount = I8{} + static_cast<std::int32_t>(count);
-  const float norm = static_cast<float>(log_norm_);
-  const float fm = static_cast<float>(m);
+  // Weights in children: the weighing's exp(log_w - chunk max) times m exp(chunk max - norm).
+  const ChunkWeights& cw = chunk_w_[c];
+  const double dscale = cw.max > kNegInf ? dm * std::exp(static_cast<double>(cw.max) - log_norm_) : 0.0;
+  const float scale = static_cast<float>(dscale);
+  const float* lin = lin_w_.data();
   double base = C[c] - u - static_cast<double>(kb);  // in children, relative to kb: (-1, 0]
   const std::size_t e8 = b + (e - b) / 8 * 8;
   std::size_t i = b;
   for (; i < e8; i += 8) {
-    const F8 w = simd8::exp_nonpositive(simd8::load(log_w_.data() + i) - norm) * fm;
+    const F8 w = simd8::load(lin + i) * scale;
     // Inclusive prefix sum across the 8 lanes (shift-and-add), then exclusive.
     F8 p = w;
     p += simd8::shift_up<1>(p);
@@ -780,8 +787,7 @@ std::pair<std::size_t, std::size_t> ParticleFilter::place_children(const std::ve
     base += static_cast<double>(p[7]);
   }
   for (; i < e; ++i) {
-    const float d = log_w_[i] - norm;
-    const double w = d > kExpFloor ? std::exp(static_cast<double>(d)) * dm : 0.0;
+    const double w = static_cast<double>(lin[i]) * dscale;
     const double first = std::ceil(base);
     if (w > 0.0 && first < static_cast<double>(count))
       anc[static_cast<std::size_t>(std::max(first, 0.0))] = static_cast<std::uint32_t>(i + 1);

@@ -158,8 +158,8 @@ class ParticleFilter final : public PlanarFilter {
   // block(i, len, out): log-likelihoods of particles [i, i + len) (len <= 256) into out.
   template <typename Block>
   bool weigh_blocks(const Block& block);
-  // Partial sums of exp(log_w - chunk max) over one chunk.
-  static ChunkWeights exp_chunk(const float* log_w, std::size_t n);
+  // Partial sums of exp(log_w - chunk max) over one chunk; the values themselves into lin.
+  static ChunkWeights exp_chunk(const float* log_w, std::size_t n, float* lin);
   bool commit_weights();  // combine chunk_w_next_ into the normaliser; false: all dead
   void resample_now();
   void resample_copy();
@@ -198,6 +198,9 @@ class ParticleFilter final : public PlanarFilter {
   // stream less through memory per step).
   bool uniform_ = true;
   FloatVector log_w_, log_w_next_;
+  // exp(log_w_[i] - its chunk's max), written by the weighing (which computes it for the
+  // log-sum-exp anyway) and read by the systematic placement instead of a second exp.
+  FloatVector lin_w_, lin_w_next_;
   std::vector<ChunkWeights> chunk_w_, chunk_w_next_;
   double log_norm_ = 0.0;
   float log_w_max_ = 0.0f;

@@ -20,6 +20,7 @@ bool ParticleFilter::weigh_particles(const PerParticle& loglik) {
   FloatVector& target = uniform ? log_w_ : log_w_next_;
   target.resize(n);
   chunk_w_next_.resize(particle_chunks(n));
+  lin_w_next_.resize(n);
   const float prior_uniform = -std::log(static_cast<float>(n));
   const float norm = static_cast<float>(log_norm_);
   for_each_particle_chunk(n, [&](std::size_t c, std::size_t b, std::size_t e) {
@@ -38,7 +39,7 @@ bool ParticleFilter::weigh_particles(const PerParticle& loglik) {
         out[i] = (lw[i] - norm) + (l <= kMax ? l : kNegInf);
       }
     }
-    chunk_w_next_[c] = exp_chunk(out + b, e - b);
+    chunk_w_next_[c] = exp_chunk(out + b, e - b, lin_w_next_.data() + b);
   });
   if (!commit_weights()) return false;
   if (!uniform) std::swap(log_w_, log_w_next_);
@@ -54,6 +55,7 @@ bool ParticleFilter::weigh_blocks(const Block& loglik_block) {
   FloatVector& target = uniform ? log_w_ : log_w_next_;
   target.resize(n);
   chunk_w_next_.resize(particle_chunks(n));
+  lin_w_next_.resize(n);
   const float prior_uniform = -std::log(static_cast<float>(n));
   const float norm = static_cast<float>(log_norm_);
   for_each_particle_chunk(n, [&](std::size_t c, std::size_t b, std::size_t e) {
@@ -71,7 +73,7 @@ bool ParticleFilter::weigh_blocks(const Block& loglik_block) {
         out[blk + k] = (uniform ? prior_uniform : lw[blk + k] - norm) + g;
       }
     }
-    chunk_w_next_[c] = exp_chunk(out + b, e - b);
+    chunk_w_next_[c] = exp_chunk(out + b, e - b, lin_w_next_.data() + b);
   });
   if (!commit_weights()) return false;
   if (!uniform) std::swap(log_w_, log_w_next_);
