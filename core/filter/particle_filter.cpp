@@ -483,14 +483,14 @@ ParticleFilter::ChunkWeights ParticleFilter::exp_chunk(const float* log_w, std::
 }
 
 void ParticleFilter::weights_into(std::size_t i, std::size_t n, float* w) const {
-  const float norm = static_cast<float>(log_norm_);
+  // The weighing's exp(log_w - chunk max) times exp(chunk max - norm): no exp per particle
+  // (a block never straddles a chunk).
+  const ChunkWeights& cw = chunk_w_[i / kParticleChunk];
+  const float scale = cw.max > kNegInf ? static_cast<float>(std::exp(static_cast<double>(cw.max) - log_norm_)) : 0.0f;
+  const float* lin = lin_w_.data() + i;
   const std::size_t n8 = n / 8 * 8;
-  for (std::size_t k = 0; k < n8; k += 8)
-    simd8::store(w + k, simd8::exp_nonpositive(simd8::load(log_w_.data() + i + k) - norm));
-  for (std::size_t k = n8; k < n; ++k) {
-    const float d = log_w_[i + k] - norm;
-    w[k] = d > kExpFloor ? std::exp(d) : 0.0f;
-  }
+  for (std::size_t k = 0; k < n8; k += 8) simd8::store(w + k, simd8::load(lin + k) * scale);
+  for (std::size_t k = n8; k < n; ++k) w[k] = lin[k] * scale;
 }
 
 bool ParticleFilter::commit_weights() {
