@@ -194,8 +194,7 @@ class ParticleFilter final : public PlanarFilter {
   ParticleSet scratch_;
   Eigen::Vector2d origin_ = Eigen::Vector2d::Zero();
   // Weights: when uniform_, all equal (log_w_ unused). Otherwise particle i's normalised
-  // weight is exp(log_w_[i] - log_norm_), computed where needed (never stored: one
-  // stream less through memory per step).
+  // weight is exp(log_w_[i] - log_norm_) = lin_w_[i] exp(chunk max - log_norm_).
   bool uniform_ = true;
   FloatVector log_w_, log_w_next_;
   // exp(log_w_[i] - its chunk's max), written by the weighing (which computes it for the
