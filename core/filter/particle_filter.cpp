@@ -38,32 +38,55 @@ void ParticleFilter::Moments::add(const Moments& o) {
 
 namespace {
 
-// Weighted (w != nullptr) or unweighted sums over one block, positions relative to (rx, ry).
-template <typename X, typename Y, typename VX, typename VY>
-void accumulate_block(double* m, const X& x, const Y& y, const VX& vx, const VY& vy, const float* w,
+// Weighted (w != nullptr) or unweighted sums over one block, positions relative to (rx, ry):
+// one pass with eight-lane float accumulators (the block's sums), added in double.
+void accumulate_block(double* m, const float* x, const float* y, const float* vx, const float* vy, const float* w,
                       std::size_t len, float rx, float ry) {
-  const BlockF dx = x - rx;
-  const BlockF dy = y - ry;
+  using simd8::F8;
+  using simd8::load;
+  F8 s0{}, s1{}, s2{}, s3{}, s4{}, s5{}, s6{}, s7{};
+  const std::size_t n8 = len / 8 * 8;
   if (w) {
-    const CMapF W(w, idx(len));
-    const BlockF wdx = W * dx, wdy = W * dy;
-    m[0] += W.sum();
-    m[1] += wdx.sum();
-    m[2] += wdy.sum();
-    m[3] += (W * vx).sum();
-    m[4] += (W * vy).sum();
-    m[5] += (wdx * dx).sum();
-    m[6] += (wdx * dy).sum();
-    m[7] += (wdy * dy).sum();
+    for (std::size_t i = 0; i < n8; i += 8) {
+      const F8 W = load(w + i), dx = load(x + i) - rx, dy = load(y + i) - ry;
+      const F8 wdx = W * dx, wdy = W * dy;
+      s0 += W;
+      s1 += wdx;
+      s2 += wdy;
+      s3 += W * load(vx + i);
+      s4 += W * load(vy + i);
+      s5 += wdx * dx;
+      s6 += wdx * dy;
+      s7 += wdy * dy;
+    }
   } else {
-    m[0] += static_cast<double>(len);
-    m[1] += dx.sum();
-    m[2] += dy.sum();
-    m[3] += vx.sum();
-    m[4] += vy.sum();
-    m[5] += dx.square().sum();
-    m[6] += (dx * dy).sum();
-    m[7] += dy.square().sum();
+    for (std::size_t i = 0; i < n8; i += 8) {
+      const F8 dx = load(x + i) - rx, dy = load(y + i) - ry;
+      s1 += dx;
+      s2 += dy;
+      s3 += load(vx + i);
+      s4 += load(vy + i);
+      s5 += dx * dx;
+      s6 += dx * dy;
+      s7 += dy * dy;
+    }
+    s0 = simd8::splat(static_cast<float>(n8 / 8));
+  }
+  const F8* acc[8] = {&s0, &s1, &s2, &s3, &s4, &s5, &s6, &s7};
+  for (int j = 0; j < 8; ++j) {
+    const F8& v = *acc[j];
+    m[j] += static_cast<double>((v[0] + v[4]) + (v[1] + v[5])) + static_cast<double>((v[2] + v[6]) + (v[3] + v[7]));
+  }
+  for (std::size_t i = n8; i < len; ++i) {
+    const double W = w ? w[i] : 1.0, dx = x[i] - rx, dy = y[i] - ry;
+    m[0] += W;
+    m[1] += W * dx;
+    m[2] += W * dy;
+    m[3] += W * vx[i];
+    m[4] += W * vy[i];
+    m[5] += W * dx * dx;
+    m[6] += W * dx * dy;
+    m[7] += W * dy * dy;
   }
 }
 
@@ -361,7 +384,7 @@ void ParticleFilter::predict_gait(const MotionInput& u) {
       VX = vx;
       VY = vy;
       if (weighted) weights_into(blk, len, wbuf);
-      accumulate_block(m, X, Y, VX, VY, weighted ? wbuf : nullptr, len, rx, ry);
+      accumulate_block(m, X.data(), Y.data(), VX.data(), VY.data(), weighted ? wbuf : nullptr, len, rx, ry);
     }
     moments_[ch] = Moments{m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7]};
   });
@@ -457,18 +480,19 @@ void ParticleFilter::predict(const MotionInput& u) {
       VY = vy;
       // The estimate's moments while the block is in registers/L1.
       if (weighted) weights_into(blk, len, wbuf);
-      accumulate_block(m, X, Y, VX, VY, weighted ? wbuf : nullptr, len, rx, ry);
+      accumulate_block(m, X.data(), Y.data(), VX.data(), VY.data(), weighted ? wbuf : nullptr, len, rx, ry);
     }
     moments_[c] = Moments{m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7]};
   });
   finish_estimate(moments_);
 }
 
-ParticleFilter::ChunkWeights ParticleFilter::exp_chunk(const float* log_w, std::size_t n) {
+ParticleFilter::ChunkWeights ParticleFilter::exp_chunk(const float* log_w, std::size_t n, float* lin) {
   ChunkWeights r;
   r.max = CMapF(log_w, idx(n)).maxCoeff();
   if (!(r.max > kNegInf)) {
     r.max = kNegInf;
+    std::fill(lin, lin + n, 0.0f);
     return r;
   }
   using simd8::F8;
@@ -476,6 +500,7 @@ ParticleFilter::ChunkWeights ParticleFilter::exp_chunk(const float* log_w, std::
   F8 s{}, s2{};
   for (std::size_t i = 0; i < n8; i += 8) {
     const F8 e = simd8::exp_nonpositive(simd8::load(log_w + i) - r.max);
+    simd8::store(lin + i, e);
     s += e;
     s2 += e * e;
   }
@@ -485,22 +510,23 @@ ParticleFilter::ChunkWeights ParticleFilter::exp_chunk(const float* log_w, std::
   }
   for (std::size_t i = n8; i < n; ++i) {
     const float d = log_w[i] - r.max;
-    const double e = d > kExpFloor ? std::exp(static_cast<double>(d)) : 0.0;
+    const float e = d > kExpFloor ? std::exp(d) : 0.0f;
+    lin[i] = e;
     r.sum += e;
-    r.sum2 += e * e;
+    r.sum2 += static_cast<double>(e) * e;
   }
   return r;
 }
 
 void ParticleFilter::weights_into(std::size_t i, std::size_t n, float* w) const {
-  const float norm = static_cast<float>(log_norm_);
+  // The weighing's exp(log_w - chunk max) times exp(chunk max - norm): no exp per particle
+  // (a block never straddles a chunk).
+  const ChunkWeights& cw = chunk_w_[i / kParticleChunk];
+  const float scale = cw.max > kNegInf ? static_cast<float>(std::exp(static_cast<double>(cw.max) - log_norm_)) : 0.0f;
+  const float* lin = lin_w_.data() + i;
   const std::size_t n8 = n / 8 * 8;
-  for (std::size_t k = 0; k < n8; k += 8)
-    simd8::store(w + k, simd8::exp_nonpositive(simd8::load(log_w_.data() + i + k) - norm));
-  for (std::size_t k = n8; k < n; ++k) {
-    const float d = log_w_[i + k] - norm;
-    w[k] = d > kExpFloor ? std::exp(d) : 0.0f;
-  }
+  for (std::size_t k = 0; k < n8; k += 8) simd8::store(w + k, simd8::load(lin + k) * scale);
+  for (std::size_t k = n8; k < n; ++k) w[k] = lin[k] * scale;
 }
 
 bool ParticleFilter::commit_weights() {
@@ -517,6 +543,7 @@ bool ParticleFilter::commit_weights() {
   }
   if (!(sum > 0.0) || !std::isfinite(sum) || !(sum2 > 0.0)) return false;
   std::swap(chunk_w_, chunk_w_next_);
+  std::swap(lin_w_, lin_w_next_);
   // log of the prior-weighted mean likelihood (the prior was normalised).
   log_norm_ = static_cast<double>(M) + std::log(sum);
   log_w_max_ = M;
@@ -691,6 +718,8 @@ void ParticleFilter::resample_copy() {
   const std::uint64_t step = ++step_;
   const std::size_t n = set_.size();
   std::size_t m = n;
+  // Systematic without KLD-sampling: the ancestors and the gather in one pass.
+  const bool fused = options_.scheme == ResamplingScheme::Systematic && !options_.kld.enabled;
   const auto draw = [&](std::size_t children) {
     if (options_.scheme == ResamplingScheme::Systematic) {
       systematic_ancestors(children, step);
@@ -707,10 +736,12 @@ void ParticleFilter::resample_copy() {
   if (!options_.kld.enabled && n > options_.particles) {
     constexpr double kConvergedSigmaM = 0.5;
     if (estimate().cov_p.trace() < 2.0 * kConvergedSigmaM * kConvergedSigmaM) m = options_.particles;
+    if (fused) return resample_systematic(m, step);
     draw(m);
     gather(step);
     return;
   }
+  if (fused) return resample_systematic(n, step);
   draw(n);
   if (options_.kld.enabled) {
     // KLD-sampling: bins occupied by the drawn ancestors decide the next set's size.
@@ -720,13 +751,9 @@ void ParticleFilter::resample_copy() {
   gather(step);
 }
 
-void ParticleFilter::systematic_ancestors(std::size_t m, std::uint64_t step) {
-  // Systematic resampling over chunks: child k copies the particle whose scaled
-  // cumulative weight interval holds k + u. Chunk boundaries C[c] come from the chunk
-  // sums; each chunk then places exactly its children [ceil(C[c] - u), ceil(C[c+1] - u)),
-  // so rounding inside a chunk can never lose or duplicate a child.
-  const std::size_t n = set_.size();
-  const std::size_t chunks = particle_chunks(n);
+std::vector<double> ParticleFilter::systematic_bounds(std::size_t m, std::uint64_t step, double& u) const {
+  // Chunk boundaries of the scaled cumulative weight, from the chunk sums.
+  const std::size_t chunks = particle_chunks(set_.size());
   std::vector<double> C(chunks + 1, 0.0);
   const double dm = static_cast<double>(m);
   for (std::size_t c = 0; c < chunks; ++c) {
@@ -735,135 +762,180 @@ void ParticleFilter::systematic_ancestors(std::size_t m, std::uint64_t step) {
     C[c + 1] = C[c] + dm * mass;
   }
   C[chunks] = dm;
-  const double u = FastRng::stream(options_.seed, step, 0xA11CEull).uniform();
-  ancestors_.resize(m);
+  u = FastRng::stream(options_.seed, step, 0xA11CEull).uniform();
+  return C;
+}
+
+std::pair<std::size_t, std::size_t> ParticleFilter::place_children(const std::vector<double>& C, double u,
+                                                                    std::size_t m, std::size_t c, std::size_t b,
+                                                                    std::size_t e) {
+  // Systematic resampling over chunks: child k copies the particle whose scaled
+  // cumulative weight interval holds k + u. Each chunk places exactly its children
+  // [ceil(C[c] - u), ceil(C[c+1] - u)), so rounding inside a chunk can never lose or
+  // duplicate a child.
+  const std::size_t chunks = C.size() - 1;
+  const double dm = static_cast<double>(m);
   const auto first_child = [&](double cum) {
     return static_cast<std::size_t>(std::clamp(std::ceil(cum - u), 0.0, dm));
   };
-  const float norm = static_cast<float>(log_norm_);
-  const float fm = static_cast<float>(m);
-  for_each_particle_chunk(n, [&](std::size_t c, std::size_t b, std::size_t e) {
-    const std::size_t kb = first_child(C[c]);
-    const std::size_t ke = c + 1 == chunks ? m : first_child(C[c + 1]);
-    if (kb >= ke) return;
-    // Branch-free placement: particle i's first child is ceil(cum_{i-1} - u); mark that
-    // child with i + 1 (a later particle with the same first child — the earlier one
-    // has none — overwrites it), then a running maximum gives every child the last
-    // particle marked at or before it.
-    std::uint32_t* anc = ancestors_.data() + kb;
-    const std::size_t count = ke - kb;
-    std::fill(anc, anc + count, 0u);
-    using simd8::F8;
-    using simd8::I8;
-    const F8 fcount = simd8::splat(static_cast<float>(count));
-    std::uint32_t sink = 0;
-    double base = C[c] - u - static_cast<double>(kb);  // in children, relative to kb: (-1, 0]
-    const std::size_t e8 = b + (e - b) / 8 * 8;
-    std::size_t i = b;
-    for (; i < e8; i += 8) {
-      const F8 w = simd8::exp_nonpositive(simd8::load(log_w_.data() + i) - norm) * fm;
-      // Inclusive prefix sum across the 8 lanes (shift-and-add), then exclusive.
-      F8 p = w;
-      p += simd8::shift_up<1>(p);
-      p += simd8::shift_up<2>(p);
-      p += simd8::shift_up<4>(p);
-      const F8 before = (p - w) + static_cast<float>(base);
-      // ceil(before) for before > -1.
-      I8 first = __builtin_convertvector(before, I8);
-      first = __builtin_convertvector(first, F8) < before ? first + 1 : first;
-      // A dead particle, or one past the chunk's last child, marks a local sink.
-      const I8 valid = (w > 0.0f) & (__builtin_convertvector(first, F8) < fcount);
-      for (int l = 0; l < 8; ++l) {
-        std::uint32_t* dst = valid[l] ? anc + std::max(first[l], 0) : &sink;
-        *dst = static_cast<std::uint32_t>(i + static_cast<std::size_t>(l) + 1);
-      }
-      base += static_cast<double>(p[7]);
-    }
-    for (; i < e; ++i) {
-      const float d = log_w_[i] - norm;
-      const double w = d > kExpFloor ? std::exp(static_cast<double>(d)) * dm : 0.0;
-      const double first = std::ceil(base);
-      if (w > 0.0 && first < static_cast<double>(count))
-        anc[static_cast<std::size_t>(std::max(first, 0.0))] = static_cast<std::uint32_t>(i + 1);
-      base += w;
-    }
-    // Running maximum (eight at a time: in-register prefix max, then the carry), minus 1.
-    using simd8::U8;
-    U8 carry = U8{} + static_cast<std::uint32_t>(b + 1);  // never unset, even if anc[0] were
-    const std::size_t c8 = count / 8 * 8;
-    std::size_t k = 0;
-    for (; k < c8; k += 8) {
-      U8 v;
-      std::memcpy(&v, anc + k, sizeof v);
-      const auto vmax = [](U8 a, U8 b2) { return a > b2 ? a : b2; };
-      v = vmax(v, simd8::shift_up<1>(v));
-      v = vmax(v, simd8::shift_up<2>(v));
-      v = vmax(v, simd8::shift_up<4>(v));
-      v = vmax(v, carry);
-      carry = U8{} + v[7];
-      const U8 out = v - 1u;
-      std::memcpy(anc + k, &out, sizeof out);
-    }
-    std::uint32_t last = carry[0];
-    for (; k < count; ++k) {
-      last = std::max(last, anc[k]);
-      anc[k] = last - 1;
-    }
-  });
+  const std::size_t kb = first_child(C[c]);
+  const std::size_t ke = c + 1 == chunks ? m : first_child(C[c + 1]);
+  if (kb >= ke) return {kb, kb};
+  // Branch-free placement: particle i's first child is ceil(cum_{i-1} - u); mark that
+  // child with i + 1 (a later particle with the same first child — the earlier one
+  // has none — overwrites it), then a running maximum gives every child the last
+  // particle marked at or before it. Chunk c's children [kb, ke) sit at kb + c in
+  // ancestors_ (sized m + chunks), so each chunk has a slot of its own past its last
+  // child: the sink that dead particles and rounding overshoots mark, without a branch.
+  std::uint32_t* anc = ancestors_.data() + kb + c;
+  const std::size_t count = ke - kb;
+  std::fill(anc, anc + count + 1, 0u);
+  using simd8::F8;
+  using simd8::I8;
+  const F8 fcount = simd8::splat(static_cast<float>(count));
+  const I8 icount = I8{} + static_cast<std::int32_t>(count);
+  // Weights in children: the weighing's exp(log_w - chunk max) times m exp(chunk max - norm).
+  const ChunkWeights& cw = chunk_w_[c];
+  const double dscale = cw.max > kNegInf ? dm * std::exp(static_cast<double>(cw.max) - log_norm_) : 0.0;
+  const float scale = static_cast<float>(dscale);
+  const float* lin = lin_w_.data();
+  double base = C[c] - u - static_cast<double>(kb);  // in children, relative to kb: (-1, 0]
+  const std::size_t e8 = b + (e - b) / 8 * 8;
+  std::size_t i = b;
+  for (; i < e8; i += 8) {
+    const F8 w = simd8::load(lin + i) * scale;
+    // Inclusive prefix sum across the 8 lanes (shift-and-add), then exclusive.
+    F8 p = w;
+    p += simd8::shift_up<1>(p);
+    p += simd8::shift_up<2>(p);
+    p += simd8::shift_up<4>(p);
+    const F8 before = (p - w) + static_cast<float>(base);
+    // ceil(before) for before > -1.
+    I8 first = __builtin_convertvector(before, I8);
+    first = __builtin_convertvector(first, F8) < before ? first + 1 : first;
+    // A dead particle, or one past the chunk's last child, marks the sink (slot count).
+    const I8 valid = (w > 0.0f) & (__builtin_convertvector(first, F8) < fcount);
+    first = first < 0 ? I8{} : first;
+    const I8 slot = valid ? first : icount;
+    alignas(32) std::int32_t sl[8];
+    std::memcpy(sl, &slot, sizeof sl);
+    for (int l = 0; l < 8; ++l) anc[sl[l]] = static_cast<std::uint32_t>(i + static_cast<std::size_t>(l) + 1);
+    base += static_cast<double>(p[7]);
+  }
+  for (; i < e; ++i) {
+    const double w = static_cast<double>(lin[i]) * dscale;
+    const double first = std::ceil(base);
+    if (w > 0.0 && first < static_cast<double>(count))
+      anc[static_cast<std::size_t>(std::max(first, 0.0))] = static_cast<std::uint32_t>(i + 1);
+    base += w;
+  }
+  // Running maximum (eight at a time: in-register prefix max, then the carry), minus 1.
+  using simd8::U8;
+  U8 carry = U8{} + static_cast<std::uint32_t>(b + 1);  // never unset, even if anc[0] were
+  const std::size_t c8 = count / 8 * 8;
+  std::size_t k = 0;
+  for (; k < c8; k += 8) {
+    U8 v;
+    std::memcpy(&v, anc + k, sizeof v);
+    const auto vmax = [](U8 a, U8 b2) { return a > b2 ? a : b2; };
+    v = vmax(v, simd8::shift_up<1>(v));
+    v = vmax(v, simd8::shift_up<2>(v));
+    v = vmax(v, simd8::shift_up<4>(v));
+    v = vmax(v, carry);
+    carry = U8{} + v[7];
+    const U8 out = v - 1u;
+    std::memcpy(anc + k, &out, sizeof out);
+  }
+  std::uint32_t last = carry[0];
+  for (; k < count; ++k) {
+    last = std::max(last, anc[k]);
+    anc[k] = last - 1;
+  }
+  return {kb, ke};
 }
 
-void ParticleFilter::gather(std::uint64_t step) {
-  const std::size_t m = ancestors_.size();
+void ParticleFilter::systematic_ancestors(std::size_t m, std::uint64_t step) {
+  double u = 0.0;
+  const std::vector<double> C = systematic_bounds(m, step, u);
+  const std::size_t chunks = particle_chunks(set_.size());
+  ancestors_.resize(m + chunks);
+  std::vector<std::pair<std::size_t, std::size_t>> ranges(chunks);
+  for_each_particle_chunk(set_.size(), [&](std::size_t c, std::size_t b, std::size_t e) {
+    ranges[c] = place_children(C, u, m, c, b, e);
+  });
+  // Close the sink slots: chunk c's children move down by c (in chunk order: dst < src).
+  for (std::size_t c = 1; c < chunks; ++c)
+    if (ranges[c].second > ranges[c].first)
+      std::memmove(ancestors_.data() + ranges[c].first, ancestors_.data() + ranges[c].first + c,
+                   (ranges[c].second - ranges[c].first) * sizeof(std::uint32_t));
+  ancestors_.resize(m);
+}
+
+void ParticleFilter::gather_block(const std::uint32_t* anc, std::size_t k0, std::size_t len, LaneRng& rng,
+                                  double* mom) {
+  // Copies children [k0, k0 + len) (len <= kBlock) from their ancestors anc[0, len) into
+  // scratch_, roughens them and adds their moments.
+  alignas(32) float noise[2 * kBlock];
+  float* sx = scratch_.x.data() + k0;
+  float* sy = scratch_.y.data() + k0;
+  float* svx = scratch_.vx.data() + k0;
+  float* svy = scratch_.vy.data() + k0;
+  const float* px = set_.x.data();
+  const float* py = set_.y.data();
+  const float* pvx = set_.vx.data();
+  const float* pvy = set_.vy.data();
+  const bool yaw_with = set_.heading && !set_.gait;  // the common case: one loop for all five
+  if (yaw_with) {
+    const float* pe = set_.yaw.data();
+    float* se = scratch_.yaw.data() + k0;
+    for (std::size_t k = 0; k < len; ++k) {
+      const std::uint32_t i = anc[k];
+      sx[k] = px[i];
+      sy[k] = py[i];
+      svx[k] = pvx[i];
+      svy[k] = pvy[i];
+      se[k] = pe[i];
+    }
+  } else {
+    for (std::size_t k = 0; k < len; ++k) {
+      const std::uint32_t i = anc[k];
+      sx[k] = px[i];
+      sy[k] = py[i];
+      svx[k] = pvx[i];
+      svy[k] = pvy[i];
+    }
+  }
+  if (set_.gait) {
+    float* sk = scratch_.ks.data() + k0;
+    float* sd = scratch_.dpsi.data() + k0;
+    for (std::size_t k = 0; k < len; ++k) {
+      const std::uint32_t i = anc[k];
+      sk[k] = set_.ks[i];
+      sd[k] = set_.dpsi[i];
+    }
+  }
+  if (set_.heading && !yaw_with) {
+    float* se = scratch_.yaw.data() + k0;
+    for (std::size_t k = 0; k < len; ++k) se[k] = set_.yaw[anc[k]];
+  }
+  const float jitter = static_cast<float>(options_.roughening_m);
+  if (jitter > 0.0f) {
+    // Roughening (Gordon et al. 1993) against copies collapsing onto one point; a
+    // triangular kernel with the same sigma (the shape is immaterial at mm scale).
+    rng.fill_triangular(noise, LaneRng::round_up(2 * len, 8));
+    Eigen::Map<Eigen::ArrayXf>(sx, idx(len)) += jitter * CMapU(noise, idx(len));
+    Eigen::Map<Eigen::ArrayXf>(sy, idx(len)) += jitter * CMapU(noise + len, idx(len));
+  }
+  accumulate_block(mom, sx, sy, svx, svy, nullptr, len, ref_x_, ref_y_);
+}
+
+void ParticleFilter::prepare_scratch(std::size_t m) {
   scratch_.gait = set_.gait;
   scratch_.heading = set_.heading;
   scratch_.resize(m);
-  const bool gait = set_.gait, heading = set_.heading;
-  const float jitter = static_cast<float>(options_.roughening_m);
-  moments_.assign(particle_chunks(m), Moments{});
-  const float rx = ref_x_, ry = ref_y_;
-  for_each_particle_chunk(m, [&](std::size_t c, std::size_t b, std::size_t e) {
-    LaneRng rng(options_.seed, step, c);
-    alignas(32) float noise[2 * kBlock];
-    double mom[8] = {};
-    const std::uint32_t* anc = ancestors_.data();
-    for (std::size_t blk = b; blk < e; blk += kBlock) {
-      const std::size_t len = std::min(kBlock, e - blk);
-      float* sx = scratch_.x.data() + blk;
-      float* sy = scratch_.y.data() + blk;
-      float* svx = scratch_.vx.data() + blk;
-      float* svy = scratch_.vy.data() + blk;
-      for (std::size_t k = 0; k < len; ++k) {
-        const std::uint32_t i = anc[blk + k];
-        sx[k] = set_.x[i];
-        sy[k] = set_.y[i];
-        svx[k] = set_.vx[i];
-        svy[k] = set_.vy[i];
-      }
-      if (gait) {
-        float* sk = scratch_.ks.data() + blk;
-        float* sd = scratch_.dpsi.data() + blk;
-        for (std::size_t k = 0; k < len; ++k) {
-          const std::uint32_t i = anc[blk + k];
-          sk[k] = set_.ks[i];
-          sd[k] = set_.dpsi[i];
-        }
-      }
-      if (heading) {
-        float* se = scratch_.yaw.data() + blk;
-        for (std::size_t k = 0; k < len; ++k) se[k] = set_.yaw[anc[blk + k]];
-      }
-      MapF X(sx, idx(len)), Y(sy, idx(len));
-      if (jitter > 0.0f) {
-        // Roughening (Gordon et al. 1993) against copies collapsing onto one point; a
-        // triangular kernel with the same sigma (the shape is immaterial at mm scale).
-        rng.fill_triangular(noise, LaneRng::round_up(2 * len, 8));
-        X += jitter * CMapU(noise, idx(len));
-        Y += jitter * CMapU(noise + len, idx(len));
-      }
-      accumulate_block(mom, X, Y, CMapF(svx, idx(len)), CMapF(svy, idx(len)), nullptr, len, rx, ry);
-    }
-    moments_[c] = Moments{mom[0], mom[1], mom[2], mom[3], mom[4], mom[5], mom[6], mom[7]};
-  });
+}
+
+void ParticleFilter::finish_resample(std::uint64_t step) {
   std::swap(set_.x, scratch_.x);
   std::swap(set_.y, scratch_.y);
   std::swap(set_.vx, scratch_.vx);
@@ -880,6 +952,65 @@ void ParticleFilter::gather(std::uint64_t step) {
   }
 }
 
+void ParticleFilter::gather(std::uint64_t step) {
+  // Children in fixed 4096-child chunks, each with the random stream of its index.
+  const std::size_t m = ancestors_.size();
+  prepare_scratch(m);
+  moments_.assign(particle_chunks(m), Moments{});
+  for_each_particle_chunk(m, [&](std::size_t c, std::size_t b, std::size_t e) {
+    LaneRng rng(options_.seed, step, c);
+    double mom[8] = {};
+    for (std::size_t blk = b; blk < e; blk += kBlock)
+      gather_block(ancestors_.data() + blk, blk, std::min(kBlock, e - blk), rng, mom);
+    moments_[c] = Moments{mom[0], mom[1], mom[2], mom[3], mom[4], mom[5], mom[6], mom[7]};
+  });
+  finish_resample(step);
+}
+
+void ParticleFilter::resample_systematic(std::size_t m, std::uint64_t step) {
+  // Systematic resampling and the gather in one pass per parent chunk: the chunk's
+  // ancestors are still in L1/L2 when its children are copied, and its particles are
+  // read while hot (one parallel pass less, no ancestor array through memory). The
+  // children of parent chunk c are copied in pieces of 4096 children, each with the
+  // random stream keyed by (step, c, piece), so the numbers do not depend on the thread
+  // count; a chunk with many children (a peaked likelihood) spreads its pieces over the
+  // threads.
+  double u = 0.0;
+  const std::vector<double> C = systematic_bounds(m, step, u);
+  const std::size_t n = set_.size();
+  ancestors_.resize(m + particle_chunks(n));  // chunk c's children at kb + c (place_children)
+  prepare_scratch(m);
+  moments_.assign(particle_chunks(n), Moments{});
+  for_each_particle_chunk(n, [&](std::size_t c, std::size_t b, std::size_t e) {
+    const auto [kb, ke] = place_children(C, u, m, c, b, e);
+    const std::size_t pieces = (ke - kb + kParticleChunk - 1) / kParticleChunk;
+    const auto piece = [&](std::size_t p, double* mom) {
+      LaneRng rng(options_.seed, step, (static_cast<std::uint64_t>(p) << 32) | c);
+      const std::size_t pb = kb + p * kParticleChunk, pe = std::min(ke, pb + kParticleChunk);
+      for (std::size_t blk = pb; blk < pe; blk += kBlock)
+        gather_block(ancestors_.data() + blk + c, blk, std::min(kBlock, pe - blk), rng, mom);
+    };
+    Moments total;
+    if (pieces <= 2) {
+      for (std::size_t p = 0; p < pieces; ++p) {
+        double mom[8] = {};
+        piece(p, mom);
+        total.add(Moments{mom[0], mom[1], mom[2], mom[3], mom[4], mom[5], mom[6], mom[7]});
+      }
+    } else {
+      std::vector<Moments> part(pieces);
+      tbb::parallel_for(std::size_t{0}, pieces, [&](std::size_t p) {
+        double mom[8] = {};
+        piece(p, mom);
+        part[p] = Moments{mom[0], mom[1], mom[2], mom[3], mom[4], mom[5], mom[6], mom[7]};
+      });
+      for (const Moments& mp : part) total.add(mp);
+    }
+    moments_[c] = total;
+  });
+  finish_resample(step);
+}
+
 void ParticleFilter::compute_moments() const {
   const std::size_t n = set_.size();
   moments_.assign(particle_chunks(n), Moments{});
@@ -891,8 +1022,7 @@ void ParticleFilter::compute_moments() const {
     for (std::size_t blk = b; blk < e; blk += kBlock) {
       const std::size_t len = std::min(kBlock, e - blk);
       if (weighted) weights_into(blk, len, wbuf);
-      accumulate_block(m, CMapF(set_.x.data() + blk, idx(len)), CMapF(set_.y.data() + blk, idx(len)),
-                       CMapF(set_.vx.data() + blk, idx(len)), CMapF(set_.vy.data() + blk, idx(len)),
+      accumulate_block(m, set_.x.data() + blk, set_.y.data() + blk, set_.vx.data() + blk, set_.vy.data() + blk,
                        weighted ? wbuf : nullptr, len, rx, ry);
     }
     moments_[c] = Moments{m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7]};

@@ -15,6 +15,7 @@
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include "core/filter/genetic_resampler.hpp"
@@ -27,6 +28,8 @@
 #include "core/filter/resampling.hpp"
 
 namespace luxloc {
+
+class LaneRng;
 
 enum class ResamplingPolicy {
   Copy,     // copy the ancestors drawn by `scheme` (SEEDS.md A, S303), then roughen
@@ -95,7 +98,9 @@ class ParticleFilter final : public PlanarFilter {
   // Multiplies every particle's weight by exp(log_likelihood(x, y)) (world coordinates,
   // doubles) — the generic measurement update (tight coupling passes a reprojection
   // likelihood here) — and normalises. A likelihood callable as (x, y, yaw_offset) gets
-  // the particle's yaw offset too (0 without the heading state). Returns false and leaves
+  // the particle's yaw offset too (0 without the heading state); one with a block method
+  // log_likelihood_block(ox, oy, x, y, e, n, out) (ReprojectionLikelihood) is called a block
+  // of origin-relative particles at a time instead. Returns false and leaves
   // the weights alone when every particle's likelihood underflows (-inf or NaN).
   template <typename LogLikelihood>
   bool weigh(const LogLikelihood& log_likelihood);
@@ -160,14 +165,27 @@ class ParticleFilter final : public PlanarFilter {
   // loglik(i) -> log-likelihood of particle i (float); the parallel weighing pass.
   template <typename PerParticle>
   bool weigh_particles(const PerParticle& loglik);
-  // Partial sums of exp(log_w - chunk max) over one chunk.
-  static ChunkWeights exp_chunk(const float* log_w, std::size_t n);
+  // block(i, len, out): log-likelihoods of particles [i, i + len) (len <= 256) into out.
+  template <typename Block>
+  bool weigh_blocks(const Block& block);
+  // Partial sums of exp(log_w - chunk max) over one chunk; the values themselves into lin.
+  static ChunkWeights exp_chunk(const float* log_w, std::size_t n, float* lin);
   bool commit_weights();  // combine chunk_w_next_ into the normaliser; false: all dead
   void resample_now();
   void resample_copy();
   void inject_random(std::uint64_t step);
+  // Systematic resampling: chunk boundaries of the scaled cumulative weight (u: the offset).
+  std::vector<double> systematic_bounds(std::size_t children, std::uint64_t step, double& u) const;
+  // Ancestors of parent chunk c's children into ancestors_ from kb + c (one sink slot per
+  // chunk past its children); returns their range [kb, ke).
+  std::pair<std::size_t, std::size_t> place_children(const std::vector<double>& C, double u, std::size_t children,
+                                                     std::size_t c, std::size_t b, std::size_t e);
   void systematic_ancestors(std::size_t children, std::uint64_t step);
+  void resample_systematic(std::size_t children, std::uint64_t step);  // ancestors + gather, one pass
+  void prepare_scratch(std::size_t children);
+  void gather_block(const std::uint32_t* anc, std::size_t k0, std::size_t len, LaneRng& rng, double* moments);
   void gather(std::uint64_t step);
+  void finish_resample(std::uint64_t step);
   void compute_moments() const;  // weighted pass over the current set
   void finish_estimate(const std::vector<Moments>& per_chunk) const;
   void reset_weights_uniform();
@@ -187,10 +205,12 @@ class ParticleFilter final : public PlanarFilter {
   ParticleSet scratch_;
   Eigen::Vector2d origin_ = Eigen::Vector2d::Zero();
   // Weights: when uniform_, all equal (log_w_ unused). Otherwise particle i's normalised
-  // weight is exp(log_w_[i] - log_norm_), computed where needed (never stored: one
-  // stream less through memory per step).
+  // weight is exp(log_w_[i] - log_norm_) = lin_w_[i] exp(chunk max - log_norm_).
   bool uniform_ = true;
   FloatVector log_w_, log_w_next_;
+  // exp(log_w_[i] - its chunk's max), written by the weighing (which computes it for the
+  // log-sum-exp anyway) and read by the systematic placement instead of a second exp.
+  FloatVector lin_w_, lin_w_next_;
   std::vector<ChunkWeights> chunk_w_, chunk_w_next_;
   double log_norm_ = 0.0;
   float log_w_max_ = 0.0f;

@@ -48,6 +48,57 @@ LedClassIndex::Grid LedClassIndex::make_grid(const std::vector<Eigen::Vector2d>&
   return g;
 }
 
+LedClassIndex::Raster LedClassIndex::make_raster(const std::vector<Eigen::Vector2d>& pts, const std::vector<int>& ids,
+                                                 double capture) {
+  Raster r;
+  if (ids.empty() || !(capture > 0.0) || !std::isfinite(capture)) return r;
+  const double cell = 0.5 * capture;
+  double x_lo = std::numeric_limits<double>::infinity(), y_lo = x_lo, x_hi = -x_lo, y_hi = -x_lo;
+  for (int id : ids) {
+    const Eigen::Vector2d& p = pts[static_cast<std::size_t>(id)];
+    x_lo = std::min(x_lo, p.x());
+    x_hi = std::max(x_hi, p.x());
+    y_lo = std::min(y_lo, p.y());
+    y_hi = std::max(y_hi, p.y());
+  }
+  // The discs' extent plus a cell: a query outside it has no copy within the capture radius.
+  r.x0 = x_lo - capture - cell;
+  r.y0 = y_lo - capture - cell;
+  const double nxd = std::floor((x_hi + capture + cell - r.x0) / cell) + 1.0;
+  const double nyd = std::floor((y_hi + capture + cell - r.y0) / cell) + 1.0;
+  // At most 4M cells per class (16 MB): beyond that (a tiny reuse distance over a huge
+  // floor) the grid search answers instead.
+  if (!(nxd * nyd <= 4.0 * 1024 * 1024)) return Raster{};
+  r.nx = static_cast<int>(nxd);
+  r.ny = static_cast<int>(nyd);
+  r.inv_cell = 1.0 / cell;
+  const auto cells = static_cast<std::size_t>(r.nx) * static_cast<std::size_t>(r.ny);
+  r.start.assign(cells + 1, 0);
+  const double c2 = capture * capture;
+  // Every cell whose rectangle comes within the capture radius of the copy (closed disc).
+  const auto for_cells = [&](const Eigen::Vector2d& p, auto&& f) {
+    const int i0 = std::max(0, static_cast<int>(std::floor((p.x() - capture - r.x0) * r.inv_cell)));
+    const int i1 = std::min(r.nx - 1, static_cast<int>(std::floor((p.x() + capture - r.x0) * r.inv_cell)));
+    const int j0 = std::max(0, static_cast<int>(std::floor((p.y() - capture - r.y0) * r.inv_cell)));
+    const int j1 = std::min(r.ny - 1, static_cast<int>(std::floor((p.y() + capture - r.y0) * r.inv_cell)));
+    for (int j = j0; j <= j1; ++j)
+      for (int i = i0; i <= i1; ++i) {
+        const double cx0 = r.x0 + i * cell, cy0 = r.y0 + j * cell;
+        const double dx = std::max({cx0 - p.x(), 0.0, p.x() - (cx0 + cell)});
+        const double dy = std::max({cy0 - p.y(), 0.0, p.y() - (cy0 + cell)});
+        // A hair of slack: a query's own cell index comes from the same rounding.
+        if (dx * dx + dy * dy <= c2 * (1.0 + 1e-9) + 1e-12) f(static_cast<std::size_t>(j) * static_cast<std::size_t>(r.nx) + static_cast<std::size_t>(i));
+      }
+  };
+  for (int id : ids) for_cells(pts[static_cast<std::size_t>(id)], [&](std::size_t c) { ++r.start[c + 1]; });
+  for (std::size_t c = 0; c < cells; ++c) r.start[c + 1] += r.start[c];
+  r.items.resize(static_cast<std::size_t>(r.start[cells]));
+  std::vector<int> fill(r.start.begin(), r.start.end() - 1);
+  for (int id : ids)
+    for_cells(pts[static_cast<std::size_t>(id)], [&](std::size_t c) { r.items[static_cast<std::size_t>(fill[c]++)] = id; });
+  return r;
+}
+
 LedClassIndex::LedClassIndex(const LedMap& map) {
   xy_.reserve(map.size());
   for (const Led& l : map.leds()) xy_.push_back(l.p_inW.head<2>());
@@ -71,6 +122,7 @@ LedClassIndex::LedClassIndex(const LedMap& map) {
         d_min = std::min(d_min, (xy_[static_cast<std::size_t>(m[a])] - xy_[static_cast<std::size_t>(m[c])]).norm());
     cg.capture_m = 0.5 * d_min;
     cg.grid = make_grid(xy_, m, b, std::max(0.5, cg.capture_m));
+    cg.raster = make_raster(xy_, m, cg.capture_m);
   }
 }
 
@@ -87,10 +139,18 @@ int LedClassIndex::nearest(int klass, double x, double y, double max_dist_m) con
       best = i;
     }
   };
-  if (cg.single >= 0)
+  if (cg.single >= 0) {
     consider(cg.single);
-  else
+  } else if (cg.raster.nx > 0 && max_dist_m <= cg.capture_m) {
+    // Every copy within the capture radius of (x, y) is listed in (x, y)'s raster cell.
+    const Raster& r = cg.raster;
+    const double fi = std::floor((x - r.x0) * r.inv_cell), fj = std::floor((y - r.y0) * r.inv_cell);
+    if (!(fi >= 0.0 && fj >= 0.0 && fi < r.nx && fj < r.ny)) return -1;  // also NaN
+    const std::size_t c = static_cast<std::size_t>(fj) * static_cast<std::size_t>(r.nx) + static_cast<std::size_t>(fi);
+    for (int k = r.start[c]; k < r.start[c + 1]; ++k) consider(r.items[static_cast<std::size_t>(k)]);
+  } else {
     cg.grid.visit(x, y, max_dist_m, consider);
+  }
   return best;
 }
 
@@ -103,7 +163,8 @@ void LedClassIndex::within(double x, double y, double r, std::vector<int>& out) 
 
 std::size_t LedClassIndex::memory_bytes() const {
   std::size_t n = xy_.size() * sizeof(Eigen::Vector2d) + (all_.start.size() + all_.items.size()) * sizeof(int);
-  for (const ClassGrid& c : classes_) n += sizeof(ClassGrid) + (c.grid.start.size() + c.grid.items.size()) * sizeof(int);
+  for (const ClassGrid& c : classes_)
+    n += sizeof(ClassGrid) + (c.grid.start.size() + c.grid.items.size() + c.raster.start.size() + c.raster.items.size()) * sizeof(int);
   return n;
 }
 

@@ -1,5 +1,6 @@
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <map>
 #include <set>
@@ -65,6 +66,9 @@ TEST_CASE("Particle filter gives bit-identical particles whatever the thread cou
   ParticleFilterOptions opt;
   opt.particles = 20000;  // several 4096-particle chunks
   SECTION("SIR, systematic") {}
+  SECTION("SIR, systematic, every correction (ancestors and gather in one pass)") {
+    opt.resample_every_correction = true;
+  }
   SECTION("SIR, stratified, every correction") {
     opt.scheme = ResamplingScheme::Stratified;
     opt.resample_every_correction = true;
@@ -311,6 +315,47 @@ TEST_CASE("Particle filter's chunked systematic resampling copies each particle 
   for (std::size_t i = 0; i < pf.size(); ++i) REQUIRE(pf.position(i).x() <= 3.8);  // dead never copied
 }
 
+TEST_CASE("Particle filter's systematic resampling spreads one chunk's many children over threads, identically", "[filter]") {
+  // Every weight in the first 4096-particle chunk (the others dead): that chunk's
+  // particles get all 40000 children, which its pieces copy in parallel; the particles
+  // and the estimate must not depend on the thread count, and no dead particle is copied.
+  ParticleFilterOptions opt;
+  opt.particles = 40000;
+  opt.resample_every_correction = true;
+  ParticleFilter one(opt), many(opt);
+  const auto peaked = [&](ParticleFilter& pf) {
+    pf.initialize({0, 0}, Eigen::Matrix2d::Identity());
+    // Mark the particles of the first chunk by their x: a likelihood that is alive only
+    // for those x values.
+    std::set<float> alive(pf.particles().x.begin(), pf.particles().x.begin() + 4096);
+    REQUIRE(pf.weigh([&](double x, double) {
+      return alive.count(static_cast<float>(x)) ? -x * x : -std::numeric_limits<double>::infinity();
+    }));
+    REQUIRE(pf.normalize_and_resample());
+    REQUIRE(pf.resample_count() == 1);
+    // Each child sits within the (bounded, triangular) roughening of a live parent.
+    const float reach = 2.5f * static_cast<float>(opt.roughening_m);
+    std::size_t orphans = 0;
+    for (std::size_t i = 0; i < pf.size(); ++i) {
+      const float x = pf.particles().x[i];
+      const auto it = alive.lower_bound(x - reach);
+      if (it == alive.end() || *it > x + reach) ++orphans;
+    }
+    REQUIRE(orphans == 0);
+  };
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+    peaked(one);
+  }
+  peaked(many);
+  REQUIRE(one.size() == opt.particles);
+  REQUIRE(one.particles().x == many.particles().x);
+  REQUIRE(one.particles().y == many.particles().y);
+  REQUIRE(one.particles().vx == many.particles().vx);
+  REQUIRE(one.estimate().p == many.estimate().p);
+  REQUIRE(one.estimate().cov_p == many.estimate().cov_p);
+}
+
 TEST_CASE("A refused update between a weighing and the resampling changes nothing", "[filter]") {
   ParticleFilterOptions opt;
   opt.particles = 20000;
@@ -330,4 +375,41 @@ TEST_CASE("A refused update between a weighing and the resampling changes nothin
   REQUIRE(a.estimate().p == b.estimate().p);
   // Posterior mean: prior N(0, 0.04), likelihood N(0.2, 0.005): 0.2 * 0.04 / 0.045 = 0.178.
   REQUIRE(a.estimate().p.x() == Approx(0.178).margin(0.01));
+}
+
+TEST_CASE("Global set (initialize_uniform): the fused resampling keeps its size until one hypothesis, then shrinks, identically on any thread count", "[filter]") {
+  ParticleFilterOptions opt;
+  opt.particles = 2000;
+  opt.resample_every_correction = true;
+  const Eigen::AlignedBox2d floor(Eigen::Vector2d(0, 0), Eigen::Vector2d(60, 30));
+  const auto run = [&](ParticleFilter& pf, std::vector<std::size_t>& sizes) {
+    pf.initialize_uniform(floor, 30000);
+    REQUIRE(pf.localising());
+    // Two hypotheses 20 m apart, then only the first: the set keeps 30000 while both live.
+    const auto two = [](double x, double y) {
+      const double a = (x - 10) * (x - 10) + (y - 10) * (y - 10), b = (x - 30) * (x - 30) + (y - 10) * (y - 10);
+      return -std::min(a, b) / (2 * 0.3 * 0.3);
+    };
+    const auto one = [](double x, double y) { return -((x - 10) * (x - 10) + (y - 10) * (y - 10)) / (2 * 0.3 * 0.3); };
+    for (int k = 0; k < 6; ++k) {
+      pf.predict(MotionInput{0.05, {0.0, 0.0}, true});
+      REQUIRE(pf.weigh(k < 3 ? std::function<double(double, double)>(two) : std::function<double(double, double)>(one)));
+      REQUIRE(pf.normalize_and_resample());
+      sizes.push_back(pf.size());
+    }
+  };
+  ParticleFilter a(opt), b(opt);
+  std::vector<std::size_t> sa, sb;
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+    run(a, sa);
+  }
+  run(b, sb);
+  REQUIRE(sa == sb);
+  CHECK(sa.front() == 30000);  // two hypotheses: still global
+  CHECK(sa.back() == 2000);    // one left: the normal count
+  CHECK_FALSE(a.localising());
+  REQUIRE(a.particles().x == b.particles().x);
+  REQUIRE(a.particles().y == b.particles().y);
+  CHECK((a.estimate().p - Eigen::Vector2d(10, 10)).norm() < 0.1);
 }
