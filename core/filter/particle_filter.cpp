@@ -735,7 +735,7 @@ void ParticleFilter::resample_copy() {
   // a tenth of a reuse distance, where a second copy's cluster can no longer hide in it.
   if (!options_.kld.enabled && n > options_.particles) {
     constexpr double kConvergedSigmaM = 0.5;
-    if (estimate().cov_p.trace() < 2.0 * kConvergedSigmaM * kConvergedSigmaM) m = options_.particles;
+    if (!search_hold_ && estimate().cov_p.trace() < 2.0 * kConvergedSigmaM * kConvergedSigmaM) m = options_.particles;
     if (fused) return resample_systematic(m, step);
     draw(m);
     gather(step);

@@ -87,6 +87,9 @@ class ParticleFilter final : public PlanarFilter {
                          double yaw_sigma = std::numeric_limits<double>::quiet_NaN());
   // True while a global set (initialize_uniform) has not yet converged.
   bool localising() const { return set_.size() > options_.particles && !options_.kld.enabled; }
+  // While held, a global set keeps its size even once its spread is small: the caller has
+  // not yet seen enough to rule out every other hypothesis (FusionEngine: LEDs seen).
+  void hold_search(bool hold) { search_hold_ = hold; }
   bool initialized() const override { return initialized_; }
   void predict(const MotionInput& u) override;
   CorrectionResult correct(const PositionMeasurement& m) override;
@@ -204,6 +207,7 @@ class ParticleFilter final : public PlanarFilter {
   ParticleSet set_;
   ParticleSet scratch_;
   Eigen::Vector2d origin_ = Eigen::Vector2d::Zero();
+  bool search_hold_ = false;
   // Weights: when uniform_, all equal (log_w_ unused). Otherwise particle i's normalised
   // weight is exp(log_w_[i] - log_norm_) = lin_w_[i] exp(chunk max - log_norm_).
   bool uniform_ = true;

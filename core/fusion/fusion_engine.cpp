@@ -324,6 +324,22 @@ void FusionEngine::apply_frame(const DecodedFrame& f) {
       ++stats_.fixes_accepted;
       consecutive_gated_ = 0;
       t_last_fix_ = f.t_obs;
+      // A search converges only after four distinct LEDs: each LED where a hypothesis puts
+      // one of its class leaves about 1/12 of the wrong copies (12 classes), so of a
+      // class's ~37 copies 37 / 12^3 = 0.02 wrong ones are expected to last past four; a
+      // tight cloud after fewer is one copy that won the noise (seen on seeds 101 and 204:
+      // wrong copies for 1-2 s until the gate caught them). An LED of a frequency of its
+      // own names its place and counts as all four.
+      if (searching) {
+        for (std::size_t i = 0; i < lik.size(); ++i) {
+          const int k = lik.term(i).klass;
+          if (k >= 0)
+            search_leds_.insert(k);
+          else
+            search_leds_.insert({-1, -2, -3, -4});
+        }
+        if (search_leds_.size() >= 4) pf_->hold_search(false);
+      }
       if (association_observer_ && lik.has_reused()) {
         const PlanarEstimate now = pf_->estimate();
         const double offset = heading_state().offset_rad;
@@ -402,6 +418,8 @@ void FusionEngine::apply_frame(const DecodedFrame& f) {
 void FusionEngine::start_global(TimeNs t, const ReprojectionLikelihood& lik) {
   if (!filter_->initialized()) t_filter_ = have_imu_ ? t_imu_ : t;
   t_global_start_ = t;
+  search_leds_.clear();
+  pf_->hold_search(true);
   stats_.global_searches.push_back({ns_to_seconds(t), std::numeric_limits<double>::quiet_NaN()});
   // The blob whose class has the fewest copies: the fewest hypotheses, each with the most
   // particles. Each copy is a hypothesis; the walk then rules them out one by one.

@@ -8,6 +8,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <set>
 
 #include "core/common/session_config.hpp"
 #include "core/fusion/fusion_options.hpp"
@@ -115,7 +116,8 @@ class FusionEngine final : public FusionStage {
   double ceiling_distance_m_ = 2.0;
   double focal_px_ = 500.0;
   int consecutive_gated_ = 0;
-  int consecutive_unexplained_ = 0;  // frames no particle of a global search explains
+  int consecutive_unexplained_ = 0;
+  std::set<int> search_leds_;  // distinct LED classes weighed since the global search began  // frames no particle of a global search explains
   std::optional<TimeNs> t_global_start_;  // the running global localisation began
   double vlc_ceiling_distance() const { return ceiling_distance_m_; }
   double vlc_focal_px() const { return focal_px_; }
