@@ -36,7 +36,10 @@ case "$MODE" in
     # Also left out: statistical bounds measured on gcc's Release floating point; clang -O1
     # rounds differently (e.g. 2 wrong LED ids of 1990 against a 0.1 % bound) and the bounds
     # are checked in the Release suite.
-    EXCLUDE='\[slow\]|^luxloc compare|^luxloc demo|dirty session|VO end to end|end to end: spec-sample|^rendered frames: ids'
+    # The floor-plan end to end (70 s of a 450-LED floor, 60 000-particle searches) takes
+    # over 4 minutes under ASan; its parts (association, search, kidnap trajectory, planner)
+    # run in their own tests.
+    EXCLUDE='\[slow\]|^luxloc compare|^luxloc demo|dirty session|VO end to end|end to end: spec-sample|^rendered frames: ids|^Floor plan, no start'
     TESTS=(-E "$EXCLUDE")
     ;;
   tsan)

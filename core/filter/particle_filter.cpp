@@ -982,7 +982,10 @@ void ParticleFilter::resample_systematic(std::size_t m, std::uint64_t step) {
   prepare_scratch(m);
   moments_.assign(particle_chunks(n), Moments{});
   for_each_particle_chunk(n, [&](std::size_t c, std::size_t b, std::size_t e) {
-    const auto [kb, ke] = place_children(C, u, m, c, b, e);
+    // Plain variables, not a structured binding: clang 14 (the sanitizer builds) cannot
+    // capture bindings in the lambda below.
+    const auto children = place_children(C, u, m, c, b, e);
+    const std::size_t kb = children.first, ke = children.second;
     const std::size_t pieces = (ke - kb + kParticleChunk - 1) / kParticleChunk;
     const auto piece = [&](std::size_t p, double* mom) {
       LaneRng rng(options_.seed, step, (static_cast<std::uint64_t>(p) << 32) | c);

@@ -196,6 +196,13 @@ bool render_led(const FrameContext& ctx, const Led& led, double phase_s, cv::Mat
     inside = inside && p.x() >= -0.5 && p.x() <= W - 0.5 && p.y() >= -0.5 && p.y() <= H - 0.5;
   }
   const int margin = ctx.opt.blur_px > 0.0 ? static_cast<int>(std::ceil(4.0 * ctx.opt.blur_px)) + 2 : 1;
+  // A rim point at a grazing angle can project millions of pixels away: clamp before the
+  // conversion to int (the patch is clipped to the image below anyway).
+  const double lim = 4.0 * (W + H);
+  xmin = std::clamp(xmin, -lim, lim);
+  xmax = std::clamp(xmax, -lim, lim);
+  rmin = std::clamp(rmin, -lim, lim);
+  rmax = std::clamp(rmax, -lim, lim);
   const int x0 = std::max(static_cast<int>(std::floor(xmin)) - margin, -margin);
   const int x1 = std::min(static_cast<int>(std::ceil(xmax)) + margin, cam.width - 1 + margin);
   const int y0 = std::max(static_cast<int>(std::floor(rmin)) - margin, -margin);

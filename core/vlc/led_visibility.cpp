@@ -29,13 +29,16 @@ double co_visibility_distance_m(const CameraModel& camera, double dz_m, double m
 void check_frequency_reuse(const LedMap& map, const CameraModel& camera, double device_height_m,
                            const std::string& origin) {
   if (!map.reuses_frequencies()) return;
+  // co_visibility_distance_m(camera, dz, 0) = 2 dz tan(a), with the camera's half-diagonal a
+  // computed once (it undistorts the corners: too slow to repeat for every pair of copies).
+  const double two_tan_a = 2.0 * std::tan(std::min(half_diagonal_fov_rad(camera), 80.0 * 3.14159265358979323846 / 180.0));
   for (const FrequencyClass& fc : map.classes())
     for (std::size_t a = 0; a < fc.members.size(); ++a)
       for (std::size_t b = a + 1; b < fc.members.size(); ++b) {
         const Led& la = map.leds()[static_cast<std::size_t>(fc.members[a])];
         const Led& lb = map.leds()[static_cast<std::size_t>(fc.members[b])];
         const double dz = 0.5 * (la.p_inW.z() + lb.p_inW.z()) - device_height_m;
-        const double limit = co_visibility_distance_m(camera, dz, 0.0);
+        const double limit = std::max(0.0, dz) * two_tan_a;
         const double d = (la.p_inW.head<2>() - lb.p_inW.head<2>()).norm();
         if (d < limit) {
           std::ostringstream s;
