@@ -132,6 +132,7 @@ class FusionEngine final : public FusionStage {
   bool emitted_ = false;
   int last_leds_ = 0;
   TimeNs t_last_fix_ = 0;
+  std::optional<TimeNs> t_last_vlc_;  // the last camera frame that corrected the position
   std::optional<TimeNs> t_initialized_;
   std::uint64_t reinits_seen_ = 0;      // stats_.reinitializations at the last pose
   std::optional<TimeNs> t_last_reinit_;  // time of the first pose after the last restart  // sample time at which the filter first initialised
