@@ -144,13 +144,7 @@ void ParticleFilter::initialize(const Eigen::Vector2d& p, const Eigen::Matrix2d&
   });
   if (set_.gait) draw_gait_prior(++step_);  // the gait calibration starts over too
   if (set_.heading) draw_heading_prior(++step_);
-  pending_yaw_var_ = 0.0;
-  reset_weights_uniform();
-  averages_.reset();  // a new prior: the old likelihood level says nothing about it
-  consecutive_rejections_ = 0;
-  initialized_ = true;
-  ref_x_ = ref_y_ = 0.0f;
-  compute_moments();
+  start_prior();
 }
 
 void ParticleFilter::initialize_uniform(const Eigen::AlignedBox2d& region, std::size_t n) {
@@ -173,13 +167,7 @@ void ParticleFilter::initialize_uniform(const Eigen::AlignedBox2d& region, std::
   });
   if (set_.gait) draw_gait_prior(++step_);
   if (set_.heading) draw_heading_prior(++step_);
-  pending_yaw_var_ = 0.0;
-  reset_weights_uniform();
-  averages_.reset();
-  consecutive_rejections_ = 0;
-  initialized_ = true;
-  ref_x_ = ref_y_ = 0.0f;
-  compute_moments();
+  start_prior();
 }
 
 void ParticleFilter::initialize_around(const std::vector<Eigen::Vector2d>& anchors, const Eigen::Vector2d& w,
@@ -208,9 +196,13 @@ void ParticleFilter::initialize_around(const std::vector<Eigen::Vector2d>& ancho
       set_.vy[i] = static_cast<float>(sv * rng.normal());
     }
   });
+  start_prior();
+}
+
+void ParticleFilter::start_prior() {
   pending_yaw_var_ = 0.0;
   reset_weights_uniform();
-  averages_.reset();
+  averages_.reset();  // a new prior: the old likelihood level says nothing about it
   consecutive_rejections_ = 0;
   initialized_ = true;
   ref_x_ = ref_y_ = 0.0f;

@@ -193,6 +193,10 @@ class ParticleFilter final : public PlanarFilter {
   void finish_estimate(const std::vector<Moments>& per_chunk) const;
   void reset_weights_uniform();
   void predict_gait(const MotionInput& u);
+  // The end of every initialisation (initialize, initialize_uniform, initialize_around):
+  // uniform weights, no pending heading walk, the likelihood averages and rejection count
+  // forgotten, the moments of the new set.
+  void start_prior();
   void draw_gait_prior(std::uint64_t step);  // k ~ N(1, sigma0), d ~ N(0, sigma0)
   void draw_heading_prior(std::uint64_t step, double mean = 0.0,
                           double sigma = std::numeric_limits<double>::quiet_NaN());  // e ~ N(mean, sigma or sigma0)

@@ -277,9 +277,7 @@ void FusionEngine::apply_frame(const DecodedFrame& f) {
       for (std::size_t i = 0; i < lik.size() && prior; ++i) {
         const int k = lik.term(i).klass;
         if (k < 0 || 3.0 * prior->sigma_m < vlc_->capture_radius(k)) continue;
-        start_global(f.t_obs, lik);
-        ++stats_.global_restarts;
-        ++stats_.reinitializations;
+        restart_global(f.t_obs, lik);
         break;
       }
     }
@@ -314,9 +312,7 @@ void FusionEngine::apply_frame(const DecodedFrame& f) {
         consecutive_unexplained_ = 0;
       } else if (++consecutive_unexplained_ >= options_.pf.max_consecutive_rejections) {
         consecutive_unexplained_ = 0;
-        start_global(f.t_obs, lik);
-        ++stats_.global_restarts;
-        ++stats_.reinitializations;
+        restart_global(f.t_obs, lik);
       }
     }
     if ((searching || rms_m <= allowed) && pf_->weigh(searching ? lik.tempered(1.0 / 9.0) : lik) &&
@@ -386,9 +382,7 @@ void FusionEngine::apply_frame(const DecodedFrame& f) {
     // with no LED of its own frequency in view, the restart is global (kidnapping).
     consecutive_gated_ = 0;
     if (vlc_->reuses_frequencies() && !vlc_->fix(f, fused_R_BtoW())) {
-      start_global(f.t_obs, lik);
-      ++stats_.global_restarts;
-      ++stats_.reinitializations;
+      restart_global(f.t_obs, lik);
       return;
     }
     if (std::optional<PositionMeasurement> m = vlc_->fix(f, fused_R_BtoW())) {
@@ -415,6 +409,12 @@ void FusionEngine::apply_frame(const DecodedFrame& f) {
   ++stats_.vlc_fixes;
   apply_position(*m);
   t_last_vlc_ = f.t_obs;
+}
+
+void FusionEngine::restart_global(TimeNs t, const ReprojectionLikelihood& lik) {
+  start_global(t, lik);
+  ++stats_.global_restarts;
+  ++stats_.reinitializations;
 }
 
 void FusionEngine::start_global(TimeNs t, const ReprojectionLikelihood& lik) {

@@ -83,6 +83,8 @@ class FusionEngine final : public FusionStage {
   // A global search over the map: around every copy of the class of the frame's most
   // telling reused blob (ParticleFilter::initialize_around), else uniform over the map.
   void start_global(TimeNs t, const ReprojectionLikelihood& lik);
+  // A search again (lost track, a prior too wide, nothing explained): counted as a restart.
+  void restart_global(TimeNs t, const ReprojectionLikelihood& lik);
   // The filter's estimate as an association hint for the single-hypothesis paths.
   std::optional<PoseHint> pose_hint(double yaw_offset_rad);
   void apply_position(const PositionMeasurement& m);

@@ -13,6 +13,7 @@
 #include "core/sim/scenario.hpp"
 #include "core/vlc/led_map.hpp"
 #include "core/vlc/led_visibility.hpp"
+#include "co_visibility_check.hpp"
 #include "test_support.hpp"
 
 using namespace luxloc;
@@ -33,44 +34,6 @@ std::string write_camera(const std::filesystem::path& dir, double exposure_s = 1
   const auto p = dir / "camera.yaml";
   cam.save(p.string());
   return p.string();
-}
-
-// Copy of views_with_two_of_a_class in tests/core/vlc/test_frequency_plan.cpp (the
-// independent check): poses with two LEDs of one class in the image, out of `samples`
-// drawn over the floor box (camera at device height looking up, any yaw, tilted up to
-// max_tilt about a random horizontal axis). Only CameraModel::project, no planner geometry.
-int views_with_two_of_a_class(const LedMap& map, const CameraModel& cam, double device_z, double max_tilt,
-                              int samples, std::uint64_t seed) {
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  const Eigen::Vector4d b = map.bounds();
-  Eigen::Matrix3d R0;  // camera x = world y, camera y = world -x, camera z = up
-  R0.col(0) = Eigen::Vector3d::UnitY();
-  R0.col(1) = -Eigen::Vector3d::UnitX();
-  R0.col(2) = Eigen::Vector3d::UnitZ();
-  // Beyond the image diagonal's angle the distortion polynomial folds points back into the
-  // image: such points are not seen, whatever project() says.
-  const double max_angle = half_diagonal_fov_rad(cam) + 1e-3;
-  int bad = 0;
-  for (int s = 0; s < samples; ++s) {
-    const Eigen::Vector3d c(b[0] - 1 + (b[2] - b[0] + 2) * u(rng), b[1] - 1 + (b[3] - b[1] + 2) * u(rng), device_z);
-    const double yaw = 2 * kPi * u(rng), tilt = max_tilt * std::sqrt(u(rng)), axis = 2 * kPi * u(rng);
-    const Eigen::Matrix3d R_CtoW =
-        Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix() *
-        Eigen::AngleAxisd(tilt, Eigen::Vector3d(std::cos(axis), std::sin(axis), 0)).toRotationMatrix() * R0;
-    std::map<int, int> seen;
-    for (std::size_t i = 0; i < map.size(); ++i) {
-      const Eigen::Vector3d p_inC = R_CtoW.transpose() * (map.leds()[i].p_inW - c);
-      Eigen::Vector2d uv;
-      if (std::atan2(p_inC.head<2>().norm(), p_inC.z()) > max_angle || !cam.project(p_inC, uv)) continue;
-      if (uv.x() < 0 || uv.y() < 0 || uv.x() >= cam.width || uv.y() >= cam.height) continue;
-      if (++seen[map.class_of(i)] == 2) {
-        ++bad;
-        break;
-      }
-    }
-  }
-  return bad;
 }
 
 double printed(const std::string& out, const std::string& pattern) {
@@ -113,7 +76,7 @@ TEST_CASE("calib ledmap plan: a 60 m x 30 m floor (2.5 m grid) in 12 classes, no
   }
   const CameraModel camera = CameraModel::load(cam);
   CHECK_NOTHROW(check_frequency_reuse(map, camera, 1.0, out.string()));
-  CHECK(views_with_two_of_a_class(map, camera, 1.0, 15.0 * kPi / 180.0, 20000, 11) == 0);
+  CHECK(test::views_with_two_of_a_class(map, camera, 1.0, 15.0 * kPi / 180.0, 20000, 11) == 0);
 
   // Same seed, same map; the sampling check does catch a bad map (every LED one class).
   const auto out2 = dir / "again.yaml";
@@ -123,7 +86,7 @@ TEST_CASE("calib ledmap plan: a 60 m x 30 m floor (2.5 m grid) in 12 classes, no
   CHECK(read_text(out2) == read_text(out));
   std::vector<Led> one = map.leds();
   for (Led& l : one) l.freq_hz = 3000.0;
-  CHECK(views_with_two_of_a_class(LedMap(one, "one"), camera, 1.0, 15.0 * kPi / 180.0, 200, 11) > 15);  // 33 of 200: two lights of the grid in one image
+  CHECK(test::views_with_two_of_a_class(LedMap(one, "one"), camera, 1.0, 15.0 * kPi / 180.0, 200, 11) > 15);  // 33 of 200: two lights of the grid in one image
 }
 
 TEST_CASE("calib ledmap plan: an irregular office (jittered rooms, a dense corridor) is valid from every sampled pose",
@@ -159,7 +122,7 @@ TEST_CASE("calib ledmap plan: an irregular office (jittered rooms, a dense corri
   CHECK(map.min_reuse_distance_m() >= printed(r.output, R"(conflict distance: ([0-9.]+) m)") - 0.01);
   const CameraModel camera = CameraModel::load(cam);
   CHECK_NOTHROW(check_frequency_reuse(map, camera, 1.0, out.string()));
-  CHECK(views_with_two_of_a_class(map, camera, 1.0, 15.0 * kPi / 180.0, 20000, 13) == 0);
+  CHECK(test::views_with_two_of_a_class(map, camera, 1.0, 15.0 * kPi / 180.0, 20000, 13) == 0);
 }
 
 TEST_CASE("calib ledmap plan: CSV and YAML layouts keep their ids and heights", "[calib][vlc][plan]") {
@@ -204,7 +167,7 @@ TEST_CASE("calib ledmap plan: CSV and YAML layouts keep their ids and heights", 
   CHECK(b.leds()[0].power == 1.5);
   CHECK(b.classes().size() == 8);
   CHECK_NOTHROW(check_frequency_reuse(b, CameraModel::load(cam), 1.0, "b"));
-  CHECK(views_with_two_of_a_class(b, CameraModel::load(cam), 1.0, 15.0 * kPi / 180.0, 5000, 5) == 0);
+  CHECK(test::views_with_two_of_a_class(b, CameraModel::load(cam), 1.0, 15.0 * kPi / 180.0, 5000, 5) == 0);
 }
 
 TEST_CASE("calib ledmap plan: bad layouts and options exit 2 naming the file, line and field", "[calib][vlc][plan]") {

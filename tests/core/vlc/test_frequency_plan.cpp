@@ -7,6 +7,7 @@
 #include <map>
 #include <random>
 
+#include "co_visibility_check.hpp"
 #include "core/sim/scenario.hpp"
 #include "core/vlc/frequency_plan.hpp"
 #include "core/vlc/led_visibility.hpp"
@@ -24,47 +25,14 @@ std::vector<Eigen::Vector2d> grid(int nx, int ny, double s) {
   return p;
 }
 
-// Poses with two LEDs of one class in the image, out of `samples` drawn on the floor box
-// (the camera at device height, looking up, any yaw, tilted up to max_tilt about a random
-// horizontal axis). Uses only CameraModel::project: independent of the planner's geometry.
+// The independent check (tests/co_visibility_check.hpp) for floor-plane positions under a
+// flat ceiling.
 int views_with_two_of_a_class(const std::vector<Eigen::Vector2d>& p, const std::vector<int>& klass,
                               const CameraModel& cam, double ceiling_z, double device_z, double max_tilt,
                               int samples, std::uint64_t seed) {
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  Eigen::Vector2d lo = p.front(), hi = p.front();
-  for (const auto& q : p) {
-    lo = lo.cwiseMin(q);
-    hi = hi.cwiseMax(q);
-  }
-  Eigen::Matrix3d R0;  // camera x = world y, camera y = world -x, camera z = up
-  R0.col(0) = Eigen::Vector3d::UnitY();
-  R0.col(1) = -Eigen::Vector3d::UnitX();
-  R0.col(2) = Eigen::Vector3d::UnitZ();
-  // Beyond the image diagonal's angle the distortion polynomial folds points back into the
-  // image (r (1 + k1 r^2) turns over): such points are not seen, whatever project() says.
-  const double max_angle = half_diagonal_fov_rad(cam) + 1e-3;
-  int bad = 0;
-  for (int s = 0; s < samples; ++s) {
-    const Eigen::Vector3d c(lo.x() - 1 + (hi.x() - lo.x() + 2) * u(rng), lo.y() - 1 + (hi.y() - lo.y() + 2) * u(rng),
-                            device_z);
-    const double yaw = 2 * kPi * u(rng), tilt = max_tilt * std::sqrt(u(rng)), axis = 2 * kPi * u(rng);
-    const Eigen::Matrix3d R_CtoW =
-        Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix() *
-        Eigen::AngleAxisd(tilt, Eigen::Vector3d(std::cos(axis), std::sin(axis), 0)).toRotationMatrix() * R0;
-    std::map<int, int> seen;
-    for (std::size_t i = 0; i < p.size(); ++i) {
-      const Eigen::Vector3d p_inC = R_CtoW.transpose() * (Eigen::Vector3d(p[i].x(), p[i].y(), ceiling_z) - c);
-      Eigen::Vector2d uv;
-      if (std::atan2(p_inC.head<2>().norm(), p_inC.z()) > max_angle || !cam.project(p_inC, uv)) continue;
-      if (uv.x() < 0 || uv.y() < 0 || uv.x() >= cam.width || uv.y() >= cam.height) continue;
-      if (++seen[klass[i]] == 2) {
-        ++bad;
-        break;
-      }
-    }
-  }
-  return bad;
+  std::vector<Eigen::Vector3d> p3;
+  for (const auto& q : p) p3.emplace_back(q.x(), q.y(), ceiling_z);
+  return test::views_with_two_of_a_class(p3, klass, cam, device_z, max_tilt, samples, seed);
 }
 
 }  // namespace
