@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "app/commands.hpp"
+#include "core/common/input_error.hpp"
 #include "core/sim/kidnap_trajectory.hpp"
 #include "core/sim/imu_grade.hpp"
 #include "core/sim/mag_disturbance.hpp"
@@ -120,7 +121,7 @@ int run_sim(const SimArgs& a) {
   sim::Scenario scenario = sim::make_scenario(a.scenario);
   if (a.walker == "random") {
     if (!scenario.walk)
-      throw CLI::ValidationError("--walker", "scenario '" + a.scenario + "' has no walker to replace");
+      throw InputError("--walker", 0, "--walker", "scenario '" + a.scenario + "' has no walker to replace");
     const double duration = a.duration_s > 0.0 ? a.duration_s : scenario.duration_s;
     options.walker = sim::draw_walker(a.seed, duration);
     scenario.trajectory = std::make_shared<sim::WalkTrajectory>(sim::apply_walker(*scenario.walk, *options.walker));
@@ -133,7 +134,7 @@ int run_sim(const SimArgs& a) {
       options.kidnap = sim::SimOptions::Kidnap{k->start_s(), k->end_s(), k->pick_up().p_BinW, k->put_down().p_BinW};
       scenario.trajectory = k;
     } catch (const std::invalid_argument& e) {
-      throw CLI::ValidationError("--kidnap", e.what());
+      throw InputError("--kidnap", 0, "--kidnap", e.what());
     }
   }
   options.imu = sim::imu_grade(a.imu_grade.empty() ? scenario.imu_grade : a.imu_grade);

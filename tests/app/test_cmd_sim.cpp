@@ -141,3 +141,13 @@ TEST_CASE("luxloc sim --imu-grade, --mag-disturbance and the explicit IMU option
   CHECK(run_luxloc("sim --out '" + bad.string() + "' --gyro-bias-dps 1,2").exit_code == 2);
   CHECK(std::filesystem::is_empty(bad));
 }
+
+TEST_CASE("luxloc sim --kidnap: a bad spec or a distance the walk never reaches exits 2 naming --kidnap", "[io][sim]") {
+  const auto dir = luxloc::test::scratch_dir("io_cmd_sim_kidnap");
+  for (const char* bad : {"--kidnap abc", "--kidnap 10:-1", "--kidnap 2:500"}) {
+    const auto r = luxloc::test::run_luxloc("sim --out '" + (dir / "s").string() + "' --scenario walk --duration 5 " + bad);
+    INFO(bad << ": " << r.output);
+    CHECK(r.exit_code == 2);
+    CHECK_THAT(r.output, Catch::Contains("--kidnap"));
+  }
+}
