@@ -16,6 +16,9 @@ if [ ${#TARGETS[@]} -eq 0 ]; then
   TARGETS=($(sed -n 's/^  \(fuzz_[a-z_0-9]*\).*/\1/p' tests/fuzz/CMakeLists.txt))
 fi
 export ASAN_OPTIONS=${ASAN_OPTIONS:-halt_on_error=1:detect_leaks=1}
+# The file-based targets write their input to a scratch folder each execution: on tmpfs
+# (/dev/shm) that costs no disk I/O (fuzz_session_csv: 185 -> ~1300 executions a second).
+if [ -z "${TMPDIR:-}" ] && [ -d /dev/shm ] && [ -w /dev/shm ]; then export TMPDIR=/dev/shm; fi
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1}
 status=0
 for t in "${TARGETS[@]}"; do
