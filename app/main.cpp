@@ -25,6 +25,11 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     const int rc = root.exit(e);
     return rc == 0 ? 0 : 2;  // SPEC: bad usage -> 2
+  } catch (const std::logic_error& e) {
+    // CLI11 converts some values with std::stoll & co (std::invalid_argument, out_of_range):
+    // still bad usage, never an abort.
+    std::cerr << "luxloc: error: a command-line or config value could not be read (" << e.what() << ")\n";
+    return 2;
   }
   try {
     return action ? action() : 0;

@@ -167,7 +167,10 @@ void add_run_options(CLI::App* sub, RunConfig& cfg) {
   sub->add_option("--ahrs-ki", cfg.fusion.ahrs.ki, "Mahony integral gain (gyro bias learning)")
       ->check(CLI::Range(0.0, 10.0))
       ->capture_default_str();
-  sub->add_flag("--no-accelerometer", [&cfg](std::int64_t) { cfg.fusion.use_accelerometer = false; },
+  // "!--no-X" binds the negation to the bool: a value that is not true/false/on/off/yes/no
+  // (`--no-uwb=abc`, `no-uwb=abc` in a config) is CLI11's ConversionError, exit 2. A flag
+  // function (int64) instead let std::stoll's invalid_argument out: an abort (fuzz_config).
+  sub->add_flag("!--no-accelerometer", cfg.fusion.use_accelerometer,
                 "constant-velocity prediction (ignore the accelerometer; = --motion cv)");
   sub->add_option_function<std::string>(
          "--start",
@@ -198,7 +201,7 @@ void add_run_options(CLI::App* sub, RunConfig& cfg) {
                   "1 sigma per axis of the start (--start or session.yaml's start:), m (default: the start's own, 0.1)")
       ->check(CLI::PositiveNumber)
       ->type_name("M");
-  sub->add_flag("--no-heading-state", [&cfg](std::int64_t) { cfg.fusion.pf.heading.enabled = false; },
+  sub->add_flag("!--no-heading-state", cfg.fusion.pf.heading.enabled,
                 "keep the AHRS yaw as the heading (no yaw-offset state in the filter, no feedback into the AHRS; "
                 "for comparisons, docs/MOTION.md \"Heading\")");
   sub->add_option("--absolute-for", cfg.fusion.absolute_for_s,
@@ -240,7 +243,7 @@ void add_run_options(CLI::App* sub, RunConfig& cfg) {
                   "time constant, s (0: never pulled)")
       ->check(CLI::Range(0.0, 1e6))
       ->capture_default_str();
-  sub->add_flag("--no-uwb", [&cfg](std::int64_t) { cfg.uwb.enabled = false; }, "ignore UWB samples");
+  sub->add_flag("!--no-uwb", cfg.uwb.enabled, "ignore UWB samples");
   sub->add_option("--status", cfg.status,
                   "one-line live status on stderr: auto (when stderr is a terminal), on, off")
       ->check(CLI::IsMember({"auto", "on", "off"}))

@@ -57,6 +57,27 @@ TEST_CASE("luxloc run --dump-config writes a [run] config that --config reads ba
   CHECK(run_luxloc("run --config '" + (dir / "missing.toml").string() + "'").exit_code == 2);
 }
 
+// fuzz_config found it: a switch flag given a value that is no boolean (`--no-uwb=abc`, or
+// `no-heading-state=abc` in a config) let std::stoll's invalid_argument out of CLI11: an abort.
+TEST_CASE("A switch flag with a value that is not a boolean is bad usage: exit 2 naming the flag", "[app]") {
+  const auto dir = scratch_dir("cmd_run_bad_flag");
+  write_text(dir / "bad.toml", "[run]\nno-heading-state=fal=se0.1\n");
+  for (const std::string& args : {std::string("run --no-uwb=abc"), std::string("run --no-accelerometer=maybe"),
+                                  "run --config '" + (dir / "bad.toml").string() + "'"}) {
+    const auto r = run_luxloc(args);
+    INFO(args << "\n" << r.output);
+    CHECK(r.exit_code == 2);
+    CHECK(r.output.find("--no-") != std::string::npos);
+  }
+  // The values it does read keep their meaning.
+  write_text(dir / "ok.toml", "[run]\nno-uwb=true\n");
+  const auto ok = run_luxloc("run --config '" + (dir / "ok.toml").string() + "' --dump-config");
+  INFO(ok.output);
+  CHECK(ok.exit_code == 0);
+  CHECK(line_of(ok.output, "no-uwb") == "no-uwb=true");
+  CHECK(line_of(ok.output, "no-heading-state") == "no-heading-state=false");
+}
+
 TEST_CASE("SIGINT mid-session: exit 0, a complete parseable CSV with every pose computed", "[app]") {
   const auto dir = scratch_dir("cmd_run_sigint");
   const auto poses = dir / "poses.csv";
