@@ -26,6 +26,9 @@ void LedClassIndex::Grid::visit(double x, double y, double r, F&& f) const {
 LedClassIndex::Grid LedClassIndex::make_grid(const std::vector<Eigen::Vector2d>& pts, const std::vector<int>& ids,
                                              const Eigen::Vector4d& b, double cell) {
   Grid g;
+  // At most 4M cells (16 MB of offsets): over a huge extent the cells grow instead (a query
+  // visits more LEDs per cell, never a wrong one).
+  while (((b[2] - b[0]) / cell + 3.0) * ((b[3] - b[1]) / cell + 3.0) > 4.0 * 1024 * 1024) cell *= 2.0;
   g.cell = cell;
   g.x0 = b[0] - cell;
   g.y0 = b[1] - cell;

@@ -39,6 +39,11 @@ LedMap::LedMap(std::vector<Led> leds, std::string origin, const LedMapOptions& o
     if (!(l.freq_hz > 0.0) || !std::isfinite(l.freq_hz))
       throw InputError(origin, 0, "freq_hz", label + ": must be > 0");
     if (!l.p_inW.allFinite()) throw InputError(origin, 0, "x/y/z", label + ": position not finite");
+    // 100 km: far beyond any building (a site is kilometres at most), and small enough that
+    // the spatial index's cell arithmetic stays exact (fuzz_session: x = 1.7e31 overflowed it).
+    if (!(l.p_inW.cwiseAbs().maxCoeff() <= kMaxCoordinateM))
+      throw InputError(origin, 0, "x/y/z", label + ": position beyond " + std::to_string(int(kMaxCoordinateM / 1000)) +
+                                               " km of the origin (map in metres?)");
     if (!(l.duty > 0.0 && l.duty < 1.0)) throw InputError(origin, 0, "duty", label + ": must be in (0, 1)");
     if (!(l.half_power_angle_deg > 0.0 && l.half_power_angle_deg < 90.0))
       throw InputError(origin, 0, "half_power_angle_deg", label + ": must be in (0, 90)");

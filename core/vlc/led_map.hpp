@@ -41,6 +41,8 @@ struct FrequencyClass {
 
 class LedMap {
  public:
+  // Largest |x|, |y|, |z| of an LED the map accepts, m.
+  static constexpr double kMaxCoordinateM = 1e5;
   LedMap() = default;
   // Validates (unique ids, freq > 0, separable frequencies); throws InputError naming
   // `origin` (a file path), the LED and the field.

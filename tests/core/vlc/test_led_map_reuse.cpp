@@ -108,3 +108,29 @@ TEST_CASE("Frequency reuse: two copies a level camera sees together are refused,
   const LedMap far({led(1, 1000, 0, 0), led(2, 1000, 6.0, 0), led(3, 1600, 3, 0)}, "far.yaml");
   CHECK_NOTHROW(check_frequency_reuse(far, cam, 1.0, "far.yaml"));
 }
+
+// fuzz_session found it: an LED at x = 1.7e31 m overflowed the index's cell arithmetic (UB),
+// and LEDs 100 km apart in 2 m cells would have asked for 1e10 cells.
+TEST_CASE("LED map: a position beyond 100 km is refused, a map 180 km wide keeps a small exact index", "[vlc][reuse]") {
+  try {
+    LedMap({led(1, 1000, 0, 0), led(2, 1300, 1.7e31, 0)}, "far.yaml");
+    FAIL("accepted");
+  } catch (const luxloc::InputError& e) {
+    CHECK(std::string(e.what()).find("far.yaml") != std::string::npos);
+    CHECK(std::string(e.what()).find("LED #2") != std::string::npos);
+    CHECK(std::string(e.what()).find("100 km") != std::string::npos);
+  }
+  // Two same-class pairs at the far corners and one in the middle.
+  const LedMap map({led(1, 1000, -9e4, -9e4), led(2, 1000, 9e4, 9e4), led(3, 1300, 0, 0), led(4, 1300, 4, 0),
+                    led(5, 1600, -9e4 + 2, -9e4)},
+                   "wide");
+  const LedClassIndex index(map);
+  CHECK(index.memory_bytes() < 64u * 1024 * 1024);
+  const int far_class = map.class_of(0);
+  CHECK(index.nearest(far_class, -9e4 + 1, -9e4, 10.0) == 0);
+  CHECK(index.nearest(far_class, 9e4 - 1, 9e4, 10.0) == 1);
+  std::vector<int> got;
+  index.within(-9e4 + 1, -9e4, 3.0, got);
+  std::sort(got.begin(), got.end());
+  CHECK(got == std::vector<int>{0, 4});
+}
