@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <optional>
 #include <opencv2/core.hpp>
 
@@ -83,7 +84,30 @@ std::optional<TextProblem> text_problem(const std::string& path) {
     }
   }
   std::fclose(f);
-  return problem;
+  if (problem) return problem;
+  // Text after a document end marker ("..." then "   - { id:3 ... }": a line of the map
+  // run into the marker, fuzz_yaml) also loops forever inside FileStorage::open. After a
+  // "..." only blank lines, comments or a new document ("---", "%YAML") may follow.
+  std::ifstream in(path, std::ios::binary);
+  std::string l;
+  bool ended = false;
+  for (int n = 1; std::getline(in, l); ++n) {
+    if (!l.empty() && l.back() == '\r') l.pop_back();
+    const std::size_t text = l.find_first_not_of(" \t");
+    const bool blank_or_comment = text == std::string::npos || l[text] == '#';
+    if (l.rfind("...", 0) == 0) {
+      const std::size_t after = l.find_first_not_of(" \t", 3);
+      if (after != std::string::npos && (l[after] != '#' || after == 3))
+        return TextProblem{n, "text after the document end marker '...' on its line"};
+      ended = true;
+    } else if (ended && !blank_or_comment) {
+      if (l.rfind("---", 0) == 0 || l.rfind("%", 0) == 0)
+        ended = false;
+      else
+        return TextProblem{n, "text after the document end marker '...' (only comments may follow it)"};
+    }
+  }
+  return std::nullopt;
 }
 
 }  // namespace

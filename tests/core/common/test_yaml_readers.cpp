@@ -104,6 +104,15 @@ TEST_CASE("LED map reader: structural errors name the file, the key and the LED"
                "not a document marker");
   expect_error("ledmap.yaml", std::string(kHead) + "leds:\n  - { id: 1, freq_hz: 1000., x: 1., y: 1., z: 3., half_po\xfd" "er: 60. }\n", load,
                "", "byte 0xfd in column");
+  // Also fuzz_yaml: text after a document end marker, on its line or below it, hangs the parser.
+  const std::string led1 = "leds:\n   - { id:1, freq_hz:1000., x:1., y:1., z:3. }\n";
+  expect_error("ledmap.yaml", std::string(kHead) + led1 + "...   - { id:3, freq_hz:1600. }\n", load, "",
+               "document end marker");
+  expect_error("ledmap.yaml", std::string(kHead) + led1 + "... # end\n   - { id:3, freq_hz:1600. }\n", load, "",
+               "only comments may follow");
+  // An end marker followed by comments only is still read (and then judged on its LEDs).
+  expect_error("ledmap.yaml", std::string(kHead) + "leds:\n   - { id:1, x:1., y:1., z:3. }\n...\n# trailing comment\n\n", load,
+               "freq_hz", "missing");
 }
 
 TEST_CASE("camera reader: structural errors name the file and the key", "[yaml]") {
