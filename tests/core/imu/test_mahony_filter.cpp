@@ -229,6 +229,7 @@ TEST_CASE("Mahony agrees with the Fusion AHRS reference on the real fusion_ahrs 
   MahonyFilter f;
   double sr = 0, sp = 0, sy = 0, max_r = 0, max_p = 0, max_y = 0;
   std::size_t n = 0, n_yaw = 0;
+  std::vector<std::pair<double, double>> late_yaw;  // (t, yaw deg) after 100 s: the still part
   auto wrap_deg = [](double a) { return std::remainder(a, 360.0); };
   while (imu.next_row() && ref.next_row()) {
     const double t = imu.number(c[0]);
@@ -252,8 +253,25 @@ TEST_CASE("Mahony agrees with the Fusion AHRS reference on the real fusion_ahrs 
       const double ey = wrap_deg(f.yaw() * deg - (ref.number(ry) + 90.0));
       sy += ey * ey, ++n_yaw;
       max_y = std::max(max_y, std::abs(ey));
+    } else {
+      late_yaw.emplace_back(t, f.yaw() * deg);
     }
   }
+  // Issue 11: the last 30 s (a still sensor while the field fades 44 -> 38 uT) must not turn
+  // the heading by more than the field allows; measured 1.18 deg now (0.5 with the attitude of
+  // 2026-12-02, 70 deg before the magnetometer gates): the bound leaves room for gyro noise.
+  REQUIRE(!late_yaw.empty());
+  REQUIRE(late_yaw.back().first - late_yaw.front().first > 30.0);
+  const double t_from = late_yaw.back().first - 30.0;
+  double y_from = 0.0, turn = 0.0;
+  bool started = false;
+  for (const auto& [tt, yy] : late_yaw) {
+    if (tt < t_from) continue;
+    if (!started) y_from = yy, started = true;
+    turn = std::max(turn, std::abs(wrap_deg(yy - y_from)));
+  }
+  std::printf("[imu] fusion_ahrs: heading turn over the last 30 s (still, field fading) %.2f deg\n", turn);
+  CHECK(turn < 2.0);
   REQUIRE(n > 10000);
   const double rms_r = std::sqrt(sr / n), rms_p = std::sqrt(sp / n), rms_y = std::sqrt(sy / n_yaw);
   std::printf("[imu] fusion_ahrs vs reference: roll rms %.2f max %.2f, pitch rms %.2f max %.2f, yaw (t<100 s) rms %.2f "
@@ -263,6 +281,6 @@ TEST_CASE("Mahony agrees with the Fusion AHRS reference on the real fusion_ahrs 
   CHECK(rms_p < 1.0);
   CHECK(max_r < 3.0);
   CHECK(max_p < 3.0);
-  CHECK(rms_y < 3.0);
+  CHECK(rms_y <= 2.0);  // issue 11: yaw rms <= 2 deg over the moving part (measured 1.17; 0.90 before the still-detector change of 2026-12-03)
   CHECK(max_y < 6.0);
 }
