@@ -32,8 +32,11 @@ std::string dump_config(const CLI::App& sub) {
     out << "\n# " << o->get_description() << "\n";
     std::vector<std::string> values = o->results();
     if (values.empty() && !o->get_default_str().empty()) values.push_back(o->get_default_str());
-    if (o->get_expected_max() == 0) {  // a flag
-      out << name << "=" << (o->count() > 0 ? "true" : "false") << "\n";
+    if (o->get_expected_max() == 0) {  // a flag, as its own name says it: `--no-uwb=false` is off
+      // A negated flag ("!--no-uwb") stores the bound value (false when given), the others
+      // what was given; as<bool> reads either.
+      const bool negated = o->get_flag_value(name, "") == "false";
+      out << name << "=" << (o->count() > 0 && o->as<bool>() != negated ? "true" : "false") << "\n";
     } else if (values.empty()) {
       out << "# " << name << "=\n";
     } else if (o->get_expected_max() > 1 || values.size() > 1) {

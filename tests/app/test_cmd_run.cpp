@@ -76,6 +76,12 @@ TEST_CASE("A switch flag with a value that is not a boolean is bad usage: exit 2
   CHECK(ok.exit_code == 0);
   CHECK(line_of(ok.output, "no-uwb") == "no-uwb=true");
   CHECK(line_of(ok.output, "no-heading-state") == "no-heading-state=false");
+  // A switch given as false is off, and the dump says so (read back, it keeps UWB on).
+  const auto off = run_luxloc("run --playback '" + kDemo + "' --no-uwb=false --no-heading-state --dump-config");
+  INFO(off.output);
+  CHECK(off.exit_code == 0);
+  CHECK(line_of(off.output, "no-uwb") == "no-uwb=false");
+  CHECK(line_of(off.output, "no-heading-state") == "no-heading-state=true");
 }
 
 TEST_CASE("SIGINT mid-session: exit 0, a complete parseable CSV with every pose computed", "[app]") {
