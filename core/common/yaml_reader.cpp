@@ -53,58 +53,40 @@ struct TextProblem {
 };
 
 std::optional<TextProblem> text_problem(const std::string& path) {
-  std::FILE* f = std::fopen(path.c_str(), "rb");
-  if (!f) return std::nullopt;
-  std::optional<TextProblem> problem;
-  int line = 1, col = 0;
-  bool comment = false, after_blank = true, marker = false;
-  // A UTF-8 byte-order mark (what some Windows editors write first) is not text.
-  unsigned char bom[3] = {};
-  if (std::fread(bom, 1, 3, f) != 3 || bom[0] != 0xEF || bom[1] != 0xBB || bom[2] != 0xBF) std::rewind(f);
-  for (int c; !problem && (c = std::fgetc(f)) != EOF;) {
-    if (c == '\n') {
-      ++line;
-      col = 0;
-      comment = false;
-      after_blank = true;
-      continue;
-    }
-    ++col;
-    if (col <= 3) marker = (col == 1 ? c == '-' : marker && c == '-');
-    if (col == 4 && marker && c != ' ' && c != '\t' && c != '\r' && c != '#')
-      problem = TextProblem{line, "a line starting with '---' that is not a document marker ('---' alone)"};
-    if (c == '#' && after_blank) comment = true;
-    after_blank = c == ' ' || c == '\t';
-    if (comment) continue;
-    if (c >= 0x80 || (c < 0x20 && c != '\t' && c != '\r')) {
-      char hex[8];
-      std::snprintf(hex, sizeof hex, "0x%02x", c);
-      problem = TextProblem{line, std::string("byte ") + hex + " in column " + std::to_string(col) +
-                                      " (outside comments only printable ASCII is read)"};
-    }
-  }
-  std::fclose(f);
-  if (problem) return problem;
-  // Text after a document end marker ("..." then "   - { id:3 ... }": a line of the map
-  // run into the marker, fuzz_yaml) also loops forever inside FileStorage::open. After a
-  // "..." only blank lines, comments or a new document ("---", "%YAML") may follow.
   std::ifstream in(path, std::ios::binary);
   std::string l;
-  bool ended = false;
+  bool ended = false;  // after a document end marker "..."
   for (int n = 1; std::getline(in, l); ++n) {
-    if (!l.empty() && l.back() == '\r') l.pop_back();
-    const std::size_t text = l.find_first_not_of(" \t");
-    const bool blank_or_comment = text == std::string::npos || l[text] == '#';
+    // A UTF-8 byte-order mark (what some Windows editors write first) is not text.
+    if (n == 1 && l.rfind("\xEF\xBB\xBF", 0) == 0) l.erase(0, 3);
+    if (l.size() > 3 && l.rfind("---", 0) == 0 && l[3] != ' ' && l[3] != '\t' && l[3] != '\r' && l[3] != '#')
+      return TextProblem{n, "a line starting with '---' that is not a document marker ('---' alone)"};
+    bool after_blank = true;
+    for (std::size_t i = 0; i < l.size(); ++i) {
+      const auto c = static_cast<unsigned char>(l[i]);
+      if (c == '#' && after_blank) break;  // a comment runs to the end of the line
+      after_blank = c == ' ' || c == '\t';
+      if (c >= 0x80 || (c < 0x20 && c != '\t' && c != '\r')) {
+        char hex[8];
+        std::snprintf(hex, sizeof hex, "0x%02x", c);
+        return TextProblem{n, std::string("byte ") + hex + " in column " + std::to_string(i + 1) +
+                                  " (outside comments only printable ASCII is read)"};
+      }
+    }
+    // Text after a document end marker ("..." then "   - { id:3 ... }": a line of the map
+    // run into the marker, fuzz_yaml) also loops forever inside FileStorage::open: after a
+    // "..." only blank lines, comments or a new document ("---", "%YAML") may follow.
     if (l.rfind("...", 0) == 0) {
-      const std::size_t after = l.find_first_not_of(" \t", 3);
+      const std::size_t after = l.find_first_not_of(" \t\r", 3);
       if (after != std::string::npos && (l[after] != '#' || after == 3))
         return TextProblem{n, "text after the document end marker '...' on its line"};
       ended = true;
-    } else if (ended && !blank_or_comment) {
-      if (l.rfind("---", 0) == 0 || l.rfind("%", 0) == 0)
-        ended = false;
-      else
+    } else if (ended) {
+      const std::size_t text = l.find_first_not_of(" \t\r");
+      if (text == std::string::npos || l[text] == '#') continue;
+      if (l.rfind("---", 0) != 0 && l.rfind("%", 0) != 0)
         return TextProblem{n, "text after the document end marker '...' (only comments may follow it)"};
+      ended = false;
     }
   }
   return std::nullopt;
