@@ -6,6 +6,11 @@
 
 namespace luxloc {
 
+namespace {
+// Cells a grid or a class's capture raster may hold at most: 4M (16 MB of int offsets).
+constexpr double kMaxCells = 4.0 * 1024 * 1024;
+}  // namespace
+
 template <typename F>
 void LedClassIndex::Grid::visit(double x, double y, double r, F&& f) const {
   if (nx == 0 || !std::isfinite(x) || !std::isfinite(y) || !(r >= 0.0)) return;
@@ -26,9 +31,9 @@ void LedClassIndex::Grid::visit(double x, double y, double r, F&& f) const {
 LedClassIndex::Grid LedClassIndex::make_grid(const std::vector<Eigen::Vector2d>& pts, const std::vector<int>& ids,
                                              const Eigen::Vector4d& b, double cell) {
   Grid g;
-  // At most 4M cells (16 MB of offsets): over a huge extent the cells grow instead (a query
-  // visits more LEDs per cell, never a wrong one).
-  while (((b[2] - b[0]) / cell + 3.0) * ((b[3] - b[1]) / cell + 3.0) > 4.0 * 1024 * 1024) cell *= 2.0;
+  // At most kMaxCells: over a huge extent the cells grow instead (a query visits more LEDs
+  // per cell, never a wrong one).
+  while (((b[2] - b[0]) / cell + 3.0) * ((b[3] - b[1]) / cell + 3.0) > kMaxCells) cell *= 2.0;
   g.cell = cell;
   g.x0 = b[0] - cell;
   g.y0 = b[1] - cell;
@@ -69,9 +74,9 @@ LedClassIndex::Raster LedClassIndex::make_raster(const std::vector<Eigen::Vector
   r.y0 = y_lo - capture - cell;
   const double nxd = std::floor((x_hi + capture + cell - r.x0) / cell) + 1.0;
   const double nyd = std::floor((y_hi + capture + cell - r.y0) / cell) + 1.0;
-  // At most 4M cells per class (16 MB): beyond that (a tiny reuse distance over a huge
-  // floor) the grid search answers instead.
-  if (!(nxd * nyd <= 4.0 * 1024 * 1024)) return Raster{};
+  // At most kMaxCells per class: beyond that (a tiny reuse distance over a huge floor) the
+  // grid search answers instead.
+  if (!(nxd * nyd <= kMaxCells)) return Raster{};
   r.nx = static_cast<int>(nxd);
   r.ny = static_cast<int>(nyd);
   r.inv_cell = 1.0 / cell;

@@ -1,4 +1,6 @@
 #include <catch2/catch.hpp>
+
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -263,13 +265,9 @@ TEST_CASE("Mahony agrees with the Fusion AHRS reference on the real fusion_ahrs 
   REQUIRE(!late_yaw.empty());
   REQUIRE(late_yaw.back().first - late_yaw.front().first > 30.0);
   const double t_from = late_yaw.back().first - 30.0;
-  double y_from = 0.0, turn = 0.0;
-  bool started = false;
-  for (const auto& [tt, yy] : late_yaw) {
-    if (tt < t_from) continue;
-    if (!started) y_from = yy, started = true;
-    turn = std::max(turn, std::abs(wrap_deg(yy - y_from)));
-  }
+  const auto from = std::find_if(late_yaw.begin(), late_yaw.end(), [t_from](const auto& s) { return s.first >= t_from; });
+  double turn = 0.0;
+  for (auto it = from; it != late_yaw.end(); ++it) turn = std::max(turn, std::abs(wrap_deg(it->second - from->second)));
   std::printf("[imu] fusion_ahrs: heading turn over the last 30 s (still, field fading) %.2f deg\n", turn);
   CHECK(turn < 2.0);
   REQUIRE(n > 10000);
