@@ -42,6 +42,10 @@ class YamlFile {
   cv::FileNode root_;  // the first document's top-level mapping; empty for a blank file
 };
 
+// Seconds (per started MB of file, plus one such allowance) a YAML parse may take before it
+// is given up as looping (yaml_reader.cpp, parse_with_deadline). Default 5; tests shorten it.
+double& yaml_parse_timeout_s();
+
 // Absent or `null`.
 inline bool yaml_absent(const cv::FileNode& n) { return n.empty() || n.isNone(); }
 

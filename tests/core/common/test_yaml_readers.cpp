@@ -2,12 +2,14 @@
 // error into an InputError naming the file and the key (exit 2), never an OpenCV assertion
 // such as "isMap() in function 'operator[]'" (core/common/yaml_reader).
 #include <catch2/catch.hpp>
+#include <chrono>
 #include <functional>
 #include <map>
 #include <unistd.h>
 
 #include "core/common/input_error.hpp"
 #include "core/common/session_file.hpp"
+#include "core/common/yaml_reader.hpp"
 #include "core/imu/imu_calibration.hpp"
 #include "core/vlc/camera_model.hpp"
 #include "core/vlc/led_map.hpp"
@@ -113,6 +115,29 @@ TEST_CASE("LED map reader: structural errors name the file, the key and the LED"
   // An end marker followed by comments only is still read (and then judged on its LEDs).
   expect_error("ledmap.yaml", std::string(kHead) + "leds:\n   - { id:1, x:1., y:1., z:3. }\n...\n# trailing comment\n\n", load,
                "freq_hz", "missing");
+}
+
+TEST_CASE("A YAML parse that does not finish is an InputError naming the file, not a hang", "[yaml]") {
+  // fuzz_yaml (seed 3): an indented sequence item, then an unindented line ending in '-'.
+  // OpenCV 4.6's parser never returns on it and no text rule names it; the parse deadline
+  // does (core/common/yaml_reader.cpp, parse_with_deadline). Shortened here to keep the test
+  // quick; the loop is left spinning in this test's own process, which ends right after.
+  const double saved = yaml_parse_timeout_s();
+  yaml_parse_timeout_s() = 0.5;
+  const auto start = std::chrono::steady_clock::now();
+  const auto load = [](const std::string& p) { LedMap::load(p); };
+  expect_error("ledmap.yaml", "%YAML:1.0\n - a\n1-m-\n", load, "", "did not finish");
+  const double waited = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  CHECK(waited < 3.0);
+  // A valid map under the same deadline still reads: the deadline is not the parse's cost.
+  std::string map = std::string(kHead) + "leds:\n";
+  for (int i = 0; i < 5000; ++i)
+    map += "   - { id: " + std::to_string(i) + ", freq_hz: " + std::to_string(1000 + 25 * (i % 12)) + ".0, x: " +
+           std::to_string(2.0 * (i % 100)) + ", y: " + std::to_string(2.0 * (i / 100)) + ", z: 3.0 }\n";
+  const fs::path dir = test::scratch_dir("yaml_deadline_" + std::to_string(::getpid()));
+  test::write_text((dir / "big.yaml").string(), map);
+  CHECK(LedMap::load((dir / "big.yaml").string()).size() == 5000);
+  yaml_parse_timeout_s() = saved;
 }
 
 TEST_CASE("camera reader: structural errors name the file and the key", "[yaml]") {
