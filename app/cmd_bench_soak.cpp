@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <string>
 
@@ -40,6 +41,15 @@ double rss_mb() {
 // growing to their working size) is the baseline, not part of the check.
 constexpr double kFlatLimit = 0.05;
 constexpr double kWarmupS = 60.0;
+constexpr double kMiB = 1024.0 * 1024.0;
+// What is judged flat is the floor of the RSS: its lowest value in each printed interval
+// (sampled at every pipeline probe, every 1024 fused samples). Camera frames waiting in the
+// source queues are memory in use, by design, up to the pipeline's per-source budget
+// (PipelineOptions::source_queue_bytes, 16 MiB), whenever the fusion falls behind (a loaded
+// machine, a re-initialisation); the RSS rises by them in a backlog and falls back within
+// seconds once it drains and the heap is trimmed (docs/RELIABILITY.md "Soak"). A leak lifts
+// the floor. The baseline is the floor of the first interval after the first minute; every
+// later floor must stay within 5 % of it, and every peak within it plus the frame budget.
 
 int run_soak(const SoakArgs& a) {
   RunConfig cfg;
@@ -51,8 +61,8 @@ int run_soak(const SoakArgs& a) {
   cfg.status = "off";
   if (a.particles > 0) cfg.fusion.pf.particles = a.particles;
   std::printf("luxloc bench soak: %s, poses to %s; a line every %g s of data\n", spec, a.out.c_str(), a.every_s);
-  std::printf("%9s %8s %7s %8s %10s %10s %10s\n", "data_s", "wall_s", "x_rt", "rss_MB", "max_queue", "max_poses",
-              "max_wait_ms");
+  std::printf("%9s %8s %7s %8s %8s %8s %10s %10s %10s %10s\n", "data_s", "wall_s", "x_rt", "rss_MB", "floor_MB",
+              "peak_MB", "frames_MB", "max_queue", "max_poses", "max_wait_ms");
   std::fflush(stdout);
 
   const auto wall0 = std::chrono::steady_clock::now();
@@ -60,7 +70,10 @@ int run_soak(const SoakArgs& a) {
   TimeNs t0 = 0;
   double next_line = a.every_s, last_wall = 0.0, last_data = 0.0;
   std::size_t max_queue = 0, max_poses = 0;
-  double max_wait = 0.0, rss_at_warmup = 0.0, rss_max_after = 0.0, rss_last = 0.0;
+  double max_wait = 0.0, rss_last = 0.0;
+  // This interval's lowest and highest RSS and most queued frame pixels (MB).
+  double floor_iv = std::numeric_limits<double>::infinity(), peak_iv = 0.0, frames_iv = 0.0;
+  double baseline = 0.0, floor_max_after = 0.0, peak_max_after = 0.0;
   cfg.probe = [&](const PipelineProbe& p) {
     if (!have_t0) {
       have_t0 = true;
@@ -69,33 +82,48 @@ int run_soak(const SoakArgs& a) {
     for (std::size_t d : p.source_depths) max_queue = std::max(max_queue, d);
     max_poses = std::max(max_poses, p.pose_depth);
     max_wait = std::max(max_wait, p.queue_wait_s);
+    const double rss = rss_mb();
+    rss_last = rss;
+    floor_iv = std::min(floor_iv, rss);
+    peak_iv = std::max(peak_iv, rss);
+    frames_iv = std::max(frames_iv, static_cast<double>(p.queued_frame_bytes) / kMiB);
     const double data = ns_to_seconds(p.t - t0);
     if (data < next_line) return;
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-    const double rss = rss_mb();
-    rss_last = rss;
-    if (rss_at_warmup == 0.0 && data >= kWarmupS) rss_at_warmup = rss;
-    if (data > kWarmupS) rss_max_after = std::max(rss_max_after, rss);
-    std::printf("%9.0f %8.1f %7.1f %8.1f %10zu %10zu %10.2f\n", data, wall,
-                wall > last_wall ? (data - last_data) / (wall - last_wall) : 0.0, rss, max_queue, max_poses,
-                max_wait * 1e3);
+    const double interval_start = next_line - a.every_s;
+    if (interval_start >= kWarmupS && baseline == 0.0) {
+      baseline = floor_iv;
+    } else if (baseline > 0.0) {
+      floor_max_after = std::max(floor_max_after, floor_iv);
+      peak_max_after = std::max(peak_max_after, peak_iv);
+    }
+    std::printf("%9.0f %8.1f %7.1f %8.1f %8.1f %8.1f %10.1f %10zu %10zu %10.2f\n", data, wall,
+                wall > last_wall ? (data - last_data) / (wall - last_wall) : 0.0, rss, floor_iv, peak_iv, frames_iv,
+                max_queue, max_poses, max_wait * 1e3);
     std::fflush(stdout);
     last_wall = wall;
     last_data = data;
     max_queue = max_poses = 0;
     max_wait = 0.0;
+    floor_iv = std::numeric_limits<double>::infinity();
+    peak_iv = frames_iv = 0.0;
     next_line += a.every_s;
   };
   const RunOutcome r = run_session(cfg, std::cerr);
-  if (rss_at_warmup > 0.0) {
-    const double growth = rss_max_after / rss_at_warmup - 1.0;
-    std::printf("rss after the first minute %.1f MB, highest later %.1f MB, at the end %.1f MB: growth %+.1f %% (%s, "
-                "limit %.0f %%)\n",
-                rss_at_warmup, rss_max_after, rss_last, growth * 100.0, growth <= kFlatLimit ? "flat" : "GROWS",
-                kFlatLimit * 100.0);
-    if (growth > kFlatLimit) return 1;
+  if (baseline > 0.0 && floor_max_after > 0.0) {
+    const double growth = floor_max_after / baseline - 1.0;
+    const double budget = static_cast<double>(PipelineOptions{}.source_queue_bytes) / kMiB;
+    const double ceiling = (baseline + budget) * (1.0 + kFlatLimit);
+    const bool flat = growth <= kFlatLimit, bounded = peak_max_after <= ceiling;
+    std::printf("rss floor after the first minute %.1f MB, highest floor later %.1f MB: growth %+.1f %% (%s, limit "
+                "%.0f %%)\n",
+                baseline, floor_max_after, growth * 100.0, flat ? "flat" : "GROWS", kFlatLimit * 100.0);
+    std::printf("rss peak later %.1f MB, at the end %.1f MB: %s the floor plus the %.0f MiB frame budget (+%.0f %%: "
+                "%.1f MB)\n",
+                peak_max_after, rss_last, bounded ? "within" : "ABOVE", budget, kFlatLimit * 100.0, ceiling);
+    if (!flat || !bounded) return 1;
   } else {
-    std::printf("run shorter than the first minute: no RSS growth figure\n");
+    std::printf("run too short for a floor after the first minute (two intervals past it): no RSS growth figure\n");
   }
   return r.failures.empty() ? 0 : 1;
 }

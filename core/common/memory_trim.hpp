@@ -11,6 +11,7 @@
 // 10-minute soak; docs/RELIABILITY.md "Soak"). Fixing the mmap threshold instead (every frame
 // its own mapping) cost 3x the throughput in page faults and unmaps.
 #include <chrono>
+#include <cstddef>
 #include <cstdint>
 
 namespace luxloc {
@@ -20,8 +21,19 @@ class MemoryTrim {
   // 5 s: a trim costs ~1 ms (measured on a 90 MB heap); 0.02 % of the time. Memory comes back
   // within seconds of a backlog's end.
   explicit MemoryTrim(std::chrono::milliseconds every = std::chrono::milliseconds(5000)) : every_(every) {}
-  // Cheap when called often: looks at the clock every 256th call.
-  void tick() {
+  // Cheap when called often: looks at the clock every 256th call. `queued_bytes`: the frame
+  // pixels waiting in the queues now; when a backlog (>= kBacklogBytes) has drained (<=
+  // kDrainedBytes) the heap is trimmed at once, not at the next 5 s tick: at 20x real time
+  // (playback, the soak) 5 s of wall clock are 100 s of data, and the backlog's pages would
+  // sit in the RSS all that while.
+  void tick(std::size_t queued_bytes = 0) {
+    if (queued_bytes >= kBacklogBytes) backlog_ = true;
+    if (backlog_ && queued_bytes <= kDrainedBytes) {
+      backlog_ = false;
+      last_ = std::chrono::steady_clock::now();
+      trim();
+      return;
+    }
     if ((++calls_ & 255u) != 0) return;
     const auto now = std::chrono::steady_clock::now();
     if (now - last_ < every_) return;
@@ -35,6 +47,11 @@ class MemoryTrim {
   std::chrono::milliseconds every_;
   std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
   std::uint32_t calls_ = 0;
+  bool backlog_ = false;
+  // A quarter of the pipeline's 16 MiB frame budget (13 VGA frames) is a backlog worth
+  // handing back; 1 MiB (3 VGA frames) is a queue that has drained. Chosen by reasoning.
+  static constexpr std::size_t kBacklogBytes = std::size_t{4} << 20;
+  static constexpr std::size_t kDrainedBytes = std::size_t{1} << 20;
 };
 
 }  // namespace luxloc

@@ -289,12 +289,17 @@ PipelineReport Pipeline::run(FusionStage& stage) {
         newest_arrival_ns, std::chrono::duration_cast<std::chrono::nanoseconds>(item.arrival.time_since_epoch()).count());
     stage.process(item.sample, out);
     emit();
-    trim.tick();
+    std::size_t queued_bytes = 0;
+    for (const auto& l : lanes) queued_bytes += l->bytes.load(std::memory_order_relaxed);
+    trim.tick(queued_bytes);
     if (options_.probe && ++fused_total % PipelineOptions::kProbeEvery == 0) {
       PipelineProbe probe;
       probe.t = item.sample.t;
       probe.queue_wait_s = std::chrono::duration<double>(Clock::now() - item.arrival).count();
-      for (const auto& l : lanes) probe.source_depths.push_back(l->queue.size_approx());
+      for (const auto& l : lanes) {
+        probe.source_depths.push_back(l->queue.size_approx());
+        probe.queued_frame_bytes += l->bytes.load(std::memory_order_relaxed);
+      }
       probe.pose_depth = poses.size_approx();
       probe.fused = fused_total;
       options_.probe(probe);

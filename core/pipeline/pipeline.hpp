@@ -29,6 +29,7 @@ struct PipelineProbe {
   double queue_wait_s = 0.0;  // how long it waited in its source's queue (wall clock)
   std::vector<std::size_t> source_depths;  // samples waiting per source
   std::size_t pose_depth = 0;              // poses waiting for the output thread
+  std::size_t queued_frame_bytes = 0;      // camera pixels waiting in the source queues (all lanes)
   std::uint64_t fused = 0;                 // samples fused so far
 };
 
