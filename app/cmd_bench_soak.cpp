@@ -4,6 +4,7 @@
 // the queue depths and the time samples wait in their queue as the run goes on, then
 // whether the RSS stayed flat after the first minute (growth <= 5 %). Figures in
 // docs/RELIABILITY.md "Soak".
+#include <malloc.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -29,6 +30,13 @@ struct SoakArgs {
   std::uint64_t seed = 1;
   std::size_t particles = 0;  // 0: run's default
 };
+
+// The C library heap's bytes in live allocations (mallinfo2: arenas' in-use chunks plus
+// mmapped ones), MB: separates memory the program holds from pages the heap keeps free.
+double heap_in_use_mb() {
+  const struct mallinfo2 m = ::mallinfo2();
+  return static_cast<double>(m.uordblks + m.hblkhd) / (1024.0 * 1024.0);
+}
 
 double rss_mb() {
   std::ifstream statm("/proc/self/statm");
@@ -61,8 +69,8 @@ int run_soak(const SoakArgs& a) {
   cfg.status = "off";
   if (a.particles > 0) cfg.fusion.pf.particles = a.particles;
   std::printf("luxloc bench soak: %s, poses to %s; a line every %g s of data\n", spec, a.out.c_str(), a.every_s);
-  std::printf("%9s %8s %7s %8s %8s %8s %10s %10s %10s %10s\n", "data_s", "wall_s", "x_rt", "rss_MB", "floor_MB",
-              "peak_MB", "frames_MB", "max_queue", "max_poses", "max_wait_ms");
+  std::printf("%9s %8s %7s %8s %8s %8s %8s %10s %10s %10s %10s\n", "data_s", "wall_s", "x_rt", "rss_MB", "floor_MB",
+              "peak_MB", "heap_MB", "frames_MB", "max_queue", "max_poses", "max_wait_ms");
   std::fflush(stdout);
 
   const auto wall0 = std::chrono::steady_clock::now();
@@ -97,9 +105,9 @@ int run_soak(const SoakArgs& a) {
       floor_max_after = std::max(floor_max_after, floor_iv);
       peak_max_after = std::max(peak_max_after, peak_iv);
     }
-    std::printf("%9.0f %8.1f %7.1f %8.1f %8.1f %8.1f %10.1f %10zu %10zu %10.2f\n", data, wall,
-                wall > last_wall ? (data - last_data) / (wall - last_wall) : 0.0, rss, floor_iv, peak_iv, frames_iv,
-                max_queue, max_poses, max_wait * 1e3);
+    std::printf("%9.0f %8.1f %7.1f %8.1f %8.1f %8.1f %8.1f %10.1f %10zu %10zu %10.2f\n", data, wall,
+                wall > last_wall ? (data - last_data) / (wall - last_wall) : 0.0, rss, floor_iv, peak_iv,
+                heap_in_use_mb(), frames_iv, max_queue, max_poses, max_wait * 1e3);
     std::fflush(stdout);
     last_wall = wall;
     last_data = data;
