@@ -18,9 +18,11 @@ const std::vector<LedObservation>& accepted_leds(const DecodedFrame& frame) {
 
 struct VlcFrontend::State {
   State(const CameraModel& c, const LedMap& m, const FusionOptions& o, double h)
-      : camera(c), map(m), index(map), options(o), device_height_m(h), decoder(c, m) {}
+      : camera(c), shared_map(std::make_shared<const LedMap>(m)), map(*shared_map), index(map), options(o),
+        device_height_m(h), decoder(c, shared_map) {}
   CameraModel camera;
-  LedMap map;
+  std::shared_ptr<const LedMap> shared_map;  // one copy for the decoder and the fusion
+  const LedMap& map;                         // *shared_map
   LedClassIndex index;  // of `map` (declared after it)
   FusionOptions options;
   double device_height_m;

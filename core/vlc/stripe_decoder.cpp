@@ -86,13 +86,16 @@ double whole_period_mean(const std::vector<double>& y, const std::vector<double>
 }  // namespace
 
 StripeDecoder::StripeDecoder(const CameraModel& camera, const LedMap& map, StripeDecoderOptions options)
-    : camera_(camera), map_(map), options_(options) {
+    : StripeDecoder(camera, std::make_shared<const LedMap>(map), options) {}
+
+StripeDecoder::StripeDecoder(const CameraModel& camera, std::shared_ptr<const LedMap> map, StripeDecoderOptions options)
+    : camera_(camera), map_(map ? std::move(map) : std::make_shared<const LedMap>()), options_(options) {
   double f_lo = options_.min_freq_hz, f_hi = options_.max_freq_hz;
   double max_dark = 0.5;  // off fraction of the longest-period LED
-  if (!map_.empty()) {
+  if (!map_->empty()) {
     f_lo = std::numeric_limits<double>::infinity();
     f_hi = 0.0;
-    for (const Led& l : map_.leds()) {
+    for (const Led& l : map_->leds()) {
       f_lo = std::min(f_lo, l.freq_hz);
       f_hi = std::max(f_hi, l.freq_hz);
       max_dark = std::max(max_dark, 1.0 - l.duty);
@@ -112,13 +115,13 @@ StripeDecoder::StripeDecoder(const CameraModel& camera, const LedMap& map, Strip
   int k = options_.closing_rows;
   if (k <= 0) k = static_cast<int>(std::ceil(max_dark / (f_lo * rt) + 2.0)) + 1;
   closing_rows_ = std::clamp(k, 3, std::max(3, camera_.height / 3)) | 1;
-  if (!map_.empty()) {
-    common_duty_ = map_.leds().front().duty;
-    for (const Led& l : map_.leds())
+  if (!map_->empty()) {
+    common_duty_ = map_->leds().front().duty;
+    for (const Led& l : map_->leds())
       if (std::abs(l.duty - common_duty_) > 1e-6) common_duty_ = 0.0;
   }
   rel_tolerance_ = options_.rel_tolerance;
-  if (map_.size() >= 2) rel_tolerance_ = std::min(rel_tolerance_, 0.45 * map_.min_relative_separation());
+  if (map_->size() >= 2) rel_tolerance_ = std::min(rel_tolerance_, 0.45 * map_->min_relative_separation());
 }
 
 std::vector<LedObservation> StripeDecoder::decode(const cv::Mat& input) const {
@@ -458,10 +461,10 @@ std::vector<LedObservation> StripeDecoder::decode(const cv::Mat& input) const {
       obs.reject_reason = "too few rows";
     } else if (!by_edges && est.peak_to_sidelobe < o.min_peak_to_sidelobe) {
       obs.reject_reason = "ambiguous frequency";
-    } else if (map_.empty() || (!by_edges && est.at_range_edge)) {  // at the edge: the true peak lies outside the map's range
+    } else if (map_->empty() || (!by_edges && est.at_range_edge)) {  // at the edge: the true peak lies outside the map's range
       obs.reject_reason = "no map match";
     } else {
-      const LedMap::FrequencyMatch mt = map_.match_frequency(obs.freq_hz, tol);
+      const LedMap::FrequencyMatch mt = map_->match_frequency(obs.freq_hz, tol);
       const double sigma_rel = obs.period_sigma_rows / obs.period_rows;
       if (mt.klass < 0) {
         obs.reject_reason = "no map match";
@@ -471,7 +474,7 @@ std::vector<LedObservation> StripeDecoder::decode(const cv::Mat& input) const {
       } else {
         obs.freq_class = mt.klass;
         obs.led_index = mt.index;  // -1 for a reused frequency
-        obs.led_id = mt.index >= 0 ? map_.leds()[static_cast<std::size_t>(mt.index)].id : -1;
+        obs.led_id = mt.index >= 0 ? map_->leds()[static_cast<std::size_t>(mt.index)].id : -1;
         // Confidence: geometric mean of the periodic fit quality, the closeness of the
         // match and the frequency's certainty, each relative to its acceptance limit.
         const double q_fit = clamp01((est.explained - o.min_explained) / (1.0 - o.min_explained));
@@ -483,7 +486,7 @@ std::vector<LedObservation> StripeDecoder::decode(const cv::Mat& input) const {
         // there is the always-on level times the duty; the blob's chord-weighted mean over
         // that level is its on-fraction (different from the duty by the partial period).
         const double duty =
-            map_.leds()[static_cast<std::size_t>(map_.classes()[static_cast<std::size_t>(mt.klass)].members.front())].duty;
+            map_->leds()[static_cast<std::size_t>(map_->classes()[static_cast<std::size_t>(mt.klass)].members.front())].duty;
         const double whole = whole_period_mean(S.raw, S.weight, obs.period_rows);
         if (whole > 0 && chord_sum > 0)
           obs.on_fraction = std::clamp(duty * (on_num / chord_sum) / whole, 1e-3, 1.0);

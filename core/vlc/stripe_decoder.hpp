@@ -1,4 +1,5 @@
 #pragma once
+#include <memory>
 // Rolling-shutter LED decoder (SEEDS.md A, S202-S203): finds the LED blobs in a frame,
 // measures each blob's stripe period with sub-row precision, turns it into a blink
 // frequency (f = 1 / (period_rows * row_time)) and identifies the LED in the map by it.
@@ -82,6 +83,8 @@ struct StripeDecoderOptions {
 class StripeDecoder {
  public:
   StripeDecoder(const CameraModel& camera, const LedMap& map, StripeDecoderOptions options = {});
+  // Shares `map` instead of copying it (VlcFrontend: one map for the decoder and the fusion).
+  StripeDecoder(const CameraModel& camera, std::shared_ptr<const LedMap> map, StripeDecoderOptions options = {});
 
   // CV_8UC1 (CV_8UC3 / CV_8UC4 BGR(A) and CV_16UC1 are converted). Accepted and rejected
   // blobs are returned (rejected: led_index = -1, reject_reason set); noise is not.
@@ -95,7 +98,7 @@ class StripeDecoder {
 
  private:
   CameraModel camera_;
-  LedMap map_;
+  std::shared_ptr<const LedMap> map_;  // never null
   StripeDecoderOptions options_;
   int closing_rows_ = 3;
   double min_period_rows_ = 2.0, max_period_rows_ = 100.0;
