@@ -298,6 +298,15 @@ void add_particle_filter_options(CLI::App* sub, ParticleFilterOptions& pf) {
       ->check(CLI::Range(1e-3, 10.0))
       ->capture_default_str()
       ->group(g);
+  sub->add_option("--search-kld-epsilon", pf.search_kld.epsilon,
+                  "global search (frequency reuse): KLD-sampling error bound that sizes the search's set")
+      ->check(CLI::Range(1e-4, 1.0))
+      ->capture_default_str()
+      ->group(g);
+  sub->add_option("--search-kld-bin", pf.search_kld.bin_m, "global search: KLD-sampling position bin, m")
+      ->check(CLI::Range(1e-3, 10.0))
+      ->capture_default_str()
+      ->group(g);
   sub->add_option("--min-particles", pf.kld.min_particles, "KLD-sampling lower bound")
       ->check(CLI::Range(10, 10'000'000))
       ->capture_default_str()
@@ -608,7 +617,8 @@ void print_report(const RunOutcome& r, std::ostream& log) {
     const std::size_t shown = std::min<std::size_t>(f.global_searches.size(), 6);
     for (std::size_t i = 0; i < shown; ++i) {
       const FusionStats::GlobalSearch& g = f.global_searches[i];
-      log << (i ? "; " : ": ") << "search from t = " << std::setprecision(1) << g.t_start_s << " s ";
+      log << (i ? "; " : ": ") << "search from t = " << std::setprecision(1) << g.t_start_s << " s (" << g.particles
+          << " particles) ";
       if (std::isfinite(g.converged_after_s))
         log << "converged after " << g.converged_after_s << " s";
       else

@@ -454,6 +454,7 @@ void FusionEngine::start_global(TimeNs t, const ReprojectionLikelihood& lik) {
     }
     pf_->initialize_around(anchors, lik.ceiling_point(static_cast<std::size_t>(best)), 0.25, options_.global_particles,
                            yaw_mean, yaw_sigma);
+    stats_.global_searches.back().particles = pf_->size();
     return;
   }
   const Eigen::Vector4d b = map.bounds();
@@ -461,6 +462,7 @@ void FusionEngine::start_global(TimeNs t, const ReprojectionLikelihood& lik) {
   region.min() -= Eigen::Vector2d::Constant(1.0);  // a camera sees LEDs up to ~1 m beyond the outer row
   region.max() += Eigen::Vector2d::Constant(1.0);
   pf_->initialize_uniform(region, options_.global_particles);
+  stats_.global_searches.back().particles = pf_->size();
 }
 
 std::optional<PoseHint> FusionEngine::pose_hint(double yaw_offset_rad) {

@@ -54,6 +54,7 @@ struct FusionStats {
   struct GlobalSearch {
     double t_start_s = 0.0;
     double converged_after_s = std::numeric_limits<double>::quiet_NaN();
+    std::size_t particles = 0;  // the set it started with (KLD-sampled, ParticleFilter::search_kld)
   };
   std::vector<GlobalSearch> global_searches;
 };
