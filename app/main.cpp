@@ -10,8 +10,10 @@
 
 #include "app/cli.hpp"
 #include "core/common/input_error.hpp"
+#include "core/common/memory_trim.hpp"
 
 int main(int argc, char** argv) {
+  luxloc::use_one_heap_arena();  // a flat RSS in long runs (core/common/memory_trim.hpp)
   // A closed output pipe (`luxloc run --out - | head`) is then a write error (EPIPE) that
   // the outputs report with exit 1, not a silent death by SIGPIPE (plugins/output/text_file).
   std::signal(SIGPIPE, SIG_IGN);
