@@ -77,7 +77,7 @@ Flight fly(const std::string& scenario, std::uint64_t seed, double duration_s, U
 
 }  // namespace
 
-TEST_CASE("drone: biases and height learnt online; ATE, z and sigma meet issue 16", "[uwb][height][platform]") {
+TEST_CASE("drone: biases and height learnt online, ATE, z and sigma meet issue 16", "[uwb][height][platform]") {
   const Flight on = fly("drone", 3, 30.0);
   UwbOptions plain;
   plain.height = plain.bias = UwbOnline::off;
