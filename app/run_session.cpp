@@ -231,6 +231,22 @@ void add_run_options(CLI::App* sub, RunConfig& cfg) {
   sub->add_option("--uwb-nlos-bias", cfg.uwb.noise.nlos_bias_mean_m, "mean positive range bias of a NLOS measurement, m")
       ->check(CLI::Range(0.01, 20.0))
       ->capture_default_str();
+  sub->add_option("--uwb-height", cfg.uwb_height,
+                  "estimate the device height from the UWB ranges: auto (>= 4 anchors, some >= 0.5 m below and "
+                  "some above the nominal height), on, off (the nominal device_height_m)")
+      ->check(CLI::IsMember({"auto", "on", "off"}))
+      ->capture_default_str();
+  sub->add_option("--uwb-bias", cfg.uwb_bias,
+                  "learn a range bias per UWB anchor while running: auto (>= 4 anchors), on, off")
+      ->check(CLI::IsMember({"auto", "on", "off"}))
+      ->capture_default_str();
+  sub->add_option("--uwb-online-psd", cfg.uwb_online_psd,
+                  "white-acceleration psd of the online height / bias filter's motion model, horizontal,vertical "
+                  "((m/s^2)^2/Hz)")
+      ->expected(2)
+      ->delimiter(',')
+      ->check(CLI::Range(1e-6, 1e3))
+      ->type_name("H,V");
   sub->add_flag("--uwb-alone", cfg.uwb.fixes_only,
                 "output the raw UWB position fixes (TOF+AOA or multilateration), no filter: the UWB-alone baseline");
   sub->add_flag("--vo", cfg.vo.enabled,
@@ -418,6 +434,15 @@ RunOutcome run_session(const RunConfig& cfg, std::ostream& log) {
   c.fusion.pf.scheme = parse_resampling_scheme(cfg.resampling);
   c.fusion.tight_coupling = cfg.coupling == "tight";
   c.uwb.noise.likelihood = cfg.uwb_likelihood == "gaussian" ? UwbLikelihood::gaussian : UwbLikelihood::robust;
+  const auto online = [](const std::string& v) {
+    return v == "on" ? UwbOnline::on : v == "off" ? UwbOnline::off : UwbOnline::automatic;
+  };
+  c.uwb.height = online(cfg.uwb_height);
+  c.uwb.bias = online(cfg.uwb_bias);
+  if (cfg.uwb_online_psd.size() == 2) {
+    c.uwb.online.horizontal_accel_psd = cfg.uwb_online_psd[0];
+    c.uwb.online.vertical_accel_psd = cfg.uwb_online_psd[1];
+  }
   // auto: a pedestrian (pdr), except with visual odometry, seed C's strapdown + VO (the VO
   // scenario is a smooth ride without steps, where pdr would see a still device).
   // --platform names the model; else the data decide: pdr behind the gait gate.
@@ -635,13 +660,27 @@ void print_report(const RunOutcome& r, std::ostream& log) {
         << " ranges weighed by the filter, " << u.fixes_used << " as position fixes) + " << u.fixes_gated
         << " fixes gated + " << u.reinitializations << " restarted the filter + " << u.no_fix
         << " waiting for a fix + " << u.underflow << " refused (all weights underflowed) + "
-        << u.unknown_anchor + u.rejected << " rejected (" << u.unknown_anchor
+        << u.nlos_set_aside << " set aside (anchor in NLOS) + " << u.unknown_anchor + u.rejected << " rejected ("
+        << u.unknown_anchor
         << " from unknown anchors (not in session.yaml), " << u.rejected << " unusable)";
     if (u.accounted() != u.samples) log << " [" << u.samples - u.accounted() << " unaccounted]";
-    log << "; " << u.fixes << " position fixes made, " << u.disagreements
+    log << "; " << u.fixes << " position fixes made";
+    if (u.fixes_outside_hull) log << " (" << u.fixes_outside_hull << " outside the anchors: mode uwb-outside-anchors)";
+    log << ", " << u.disagreements
         << " ranges far from the filter's mean (weighed all the same: a run of them restarts the filter)";
     if (u.learnt_anchors) log << ", " << u.learnt_anchors << " anchor positions taken from the device";
     log << "\n";
+    if (u.online_used + u.online_gated_long + u.online_gated_short) {
+      log << "  uwb online: " << u.online_used << " ranges used, " << u.online_gated_long << " set aside as NLOS (long), "
+          << u.online_gated_short << " as short";
+      if (std::isfinite(u.final_height_m))
+        log << "; height " << std::setprecision(3) << u.final_height_m << " m +/- " << u.final_height_sigma_m;
+      if (!u.learnt_bias_m.empty()) {
+        log << "; learnt range bias (m):" << std::setprecision(2);
+        for (const auto& [id, b] : u.learnt_bias_m) log << " " << id << ":" << b;
+      }
+      log << std::setprecision(2) << "\n";
+    }
   }
   if (r.vo.frames)
     log << "  vo: " << r.vo.frames << " frames, " << r.vo.motions << " motions fitted, " << r.vo.accepted

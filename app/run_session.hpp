@@ -25,6 +25,8 @@ struct RunConfig {
   UwbOptions uwb;
   VoOptions vo;
   std::string uwb_likelihood = "robust";  // robust | gaussian
+  std::string uwb_height = "auto", uwb_bias = "auto";  // auto | on | off (issue 16: learnt while running)
+  std::vector<double> uwb_online_psd;                  // empty: HeightBiasOptions' defaults
   std::string resampling = "systematic";
   std::string coupling = "tight";    // tight | loose
   std::string motion = "auto";       // auto | pdr | strapdown | cv (docs/MOTION.md)

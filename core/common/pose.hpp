@@ -19,6 +19,7 @@ struct PoseEstimate {
   double sigma_x = std::numeric_limits<double>::quiet_NaN();
   double sigma_y = std::numeric_limits<double>::quiet_NaN();
   double sigma_yaw = std::numeric_limits<double>::quiet_NaN();  // rad, 1 sigma of the fused yaw
+  double sigma_z = std::numeric_limits<double>::quiet_NaN();    // m; NaN: z is the nominal height, not estimated
   double n_eff = std::numeric_limits<double>::quiet_NaN();
   int leds = 0;             // LEDs decoded in the last frame
   std::string mode = "";    // e.g. "fused", "imu-only", "init"

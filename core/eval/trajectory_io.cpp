@@ -35,7 +35,8 @@ TimeNs checked_time(const std::string& path, int line, double t) {
 std::vector<TrajectoryPoint> read_csv_trajectory(CsvReader& r, bool strictly_increasing) {
   const int ct = r.require_column("t"), cx = r.require_column("x"), cy = r.require_column("y");
   const int cz = r.column("z"), cyaw = r.column("yaw");
-  const int csx = r.column("sigma_x"), csy = r.column("sigma_y"), csyaw = r.column("sigma_yaw");
+  const int csx = r.column("sigma_x"), csy = r.column("sigma_y"), csyaw = r.column("sigma_yaw"),
+            csz = r.column("sigma_z");
   std::vector<TrajectoryPoint> out;
   while (r.next_row()) {
     TrajectoryPoint p;
@@ -45,6 +46,7 @@ std::vector<TrajectoryPoint> read_csv_trajectory(CsvReader& r, bool strictly_inc
     p.sigma_x = r.number_or(csx, kNaN);
     p.sigma_y = r.number_or(csy, kNaN);
     p.sigma_yaw = r.number_or(csyaw, kNaN);
+    p.sigma_z = r.number_or(csz, kNaN);
     if (strictly_increasing && !out.empty() && p.t <= out.back().t)
       throw InputError(r.path(), r.line(), "t",
                        p.t == out.back().t ? "duplicated time stamp" : "time goes backwards (rows must be in time order)");

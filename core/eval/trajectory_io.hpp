@@ -20,11 +20,12 @@ struct TrajectoryPoint {
   double sigma_x = std::numeric_limits<double>::quiet_NaN();
   double sigma_y = std::numeric_limits<double>::quiet_NaN();
   double sigma_yaw = std::numeric_limits<double>::quiet_NaN();
+  double sigma_z = std::numeric_limits<double>::quiet_NaN();  // NaN: z not estimated
 };
 using TruthRow = TrajectoryPoint;
 using PoseRow = TrajectoryPoint;
 
-inline PoseRow to_pose_row(const PoseEstimate& p) { return {p.t, p.p_BinW, p.yaw, p.sigma_x, p.sigma_y, p.sigma_yaw}; }
+inline PoseRow to_pose_row(const PoseEstimate& p) { return {p.t, p.p_BinW, p.yaw, p.sigma_x, p.sigma_y, p.sigma_yaw, p.sigma_z}; }
 
 // groundtruth.csv: t,x,y required; z, yaw optional (empty yaw field -> NaN). Evaluation is
 // strict: any bad row, fewer than 2 rows, or times not strictly increasing -> InputError

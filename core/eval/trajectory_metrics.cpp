@@ -68,8 +68,8 @@ EvalResult evaluate(const std::vector<TruthRow>& truth, const std::vector<PoseRo
   std::stable_sort(sorted.begin(), sorted.end(), [](const PoseRow* a, const PoseRow* b) { return a->t < b->t; });
 
   std::vector<double> err, yaw_abs;
-  double yaw_sq = 0.0, sigma_sum = 0.0;
-  std::size_t inside = 0, inside_yaw = 0;
+  double yaw_sq = 0.0, sigma_sum = 0.0, z_sq = 0.0;
+  std::size_t inside = 0, inside_yaw = 0, inside_z = 0, n_z = 0;
   for (const PoseRow* p : sorted) {
     TruthRow g;
     if (!interpolate_truth(truth, p->t, g)) {
@@ -99,6 +99,14 @@ EvalResult evaluate(const std::vector<TruthRow>& truth, const std::vector<PoseRo
       if (e.mahalanobis2 <= 5.991) ++inside;
       sigma_sum += std::sqrt(0.5 * (p->sigma_x * p->sigma_x + p->sigma_y * p->sigma_y));
     }
+    if (const double ez = p->p_inW.z() - g.p_inW.z(); std::isfinite(ez)) {
+      z_sq += ez * ez;
+      ++n_z;
+      if (std::isfinite(p->sigma_z) && p->sigma_z > 0.0) {
+        ++r.n_sigma_z;
+        if (std::abs(ez) <= 1.96 * p->sigma_z) ++inside_z;
+      }
+    }
     err.push_back(e.err_m);
     r.errors.push_back(e);
   }
@@ -114,6 +122,8 @@ EvalResult evaluate(const std::vector<TruthRow>& truth, const std::vector<PoseRo
     r.mean_sigma_m = sigma_sum / static_cast<double>(r.n_sigma);
   }
   if (r.n_sigma_yaw > 0) r.yaw_consistency = static_cast<double>(inside_yaw) / static_cast<double>(r.n_sigma_yaw);
+  if (n_z > 0) r.z_rmse_m = std::sqrt(z_sq / static_cast<double>(n_z));
+  if (r.n_sigma_z > 0) r.z_consistency = static_cast<double>(inside_z) / static_cast<double>(r.n_sigma_z);
 
   // Coverage (kCoverageDefinition): length-weighted share of covered bins.
   const double span = ns_to_seconds(r.truth_t1 - r.truth_t0);
@@ -201,6 +211,9 @@ std::string format_eval_report(const EvalResult& r) {
          fmt("%.4f", r.mean_sigma_m) + " m over " + std::to_string(r.n_sigma) + " poses\n";
   if (r.n_sigma_yaw > 0)
     s += "sigma_yaw        " + fmt("%.1f", 100.0 * r.yaw_consistency) + " % of the poses within 1.96 sigma_yaw\n";
+  if (std::isfinite(r.z_rmse_m))
+    s += "z RMSE           " + fmt("%.4f", r.z_rmse_m) + " m" +
+         (r.n_sigma_z > 0 ? ", " + fmt("%.1f", 100.0 * r.z_consistency) + " % within 1.96 sigma_z" : std::string()) + "\n";
   s += format_eval_summary(r) + "\n";
   return s;
 }
@@ -238,6 +251,9 @@ std::string format_eval_json(const EvalResult& r) {
   add("mean_sigma_m", num(r.mean_sigma_m, "%.6f"));
   add("n_sigma_yaw", std::to_string(r.n_sigma_yaw));
   add("yaw_consistency", num(r.yaw_consistency, "%.6f"));
+  add("z_rmse_m", num(r.z_rmse_m, "%.6f"));
+  add("n_sigma_z", std::to_string(r.n_sigma_z));
+  add("z_consistency", num(r.z_consistency, "%.6f"));
   s += '}';
   return s;
 }

@@ -61,6 +61,11 @@ struct EvalResult {
   double consistency = std::numeric_limits<double>::quiet_NaN();
   double yaw_consistency = std::numeric_limits<double>::quiet_NaN();
   double mean_sigma_m = std::numeric_limits<double>::quiet_NaN();  // mean of sqrt((sx^2 + sy^2) / 2)
+  // Height (issue 16 part 3): RMSE of z - truth z over every evaluated pose (a planar run's
+  // z is its nominal height), and the share within 1.96 sigma_z of those that carry one.
+  double z_rmse_m = std::numeric_limits<double>::quiet_NaN();
+  std::size_t n_sigma_z = 0;
+  double z_consistency = std::numeric_limits<double>::quiet_NaN();
   std::vector<PoseError> errors;  // the evaluated poses, in time order
 };
 

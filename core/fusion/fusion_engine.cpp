@@ -118,6 +118,7 @@ void FusionEngine::finish(std::vector<PoseEstimate>& out) {
   stats_.motion_auto = motion_.model() == MotionModel::pdr && options_.motion.gait_gate;
   stats_.steps_used = motion_.steps_used();
   stats_.regime_s = motion_.regime_seconds();
+  uwb_->summarize_online();
   if (pf_) {
     if (const ParticleFilter::GaitEstimate g = pf_->gait_estimate(); g.valid) {
       stats_.gait_scale = g.scale;
@@ -519,7 +520,8 @@ void FusionEngine::on_uwb(const UwbSample& s, std::vector<PoseEstimate>& out) {
     if (ahrs_.initialized()) p.yaw = ahrs_.yaw();
     p.sigma_x = std::sqrt(fix->R(0, 0));
     p.sigma_y = std::sqrt(fix->R(1, 1));
-    p.mode = "uwb";
+    // A fix outside the anchors may be a mirror (issue 16 part 4): the mode says so.
+    p.mode = uwb_->last_fix_outside_hull() ? "uwb-outside-anchors" : "uwb";
     out.push_back(std::move(p));
     ++stats_.poses;
     return;
@@ -530,6 +532,7 @@ void FusionEngine::on_uwb(const UwbSample& s, std::vector<PoseEstimate>& out) {
   if (!tight || !filter_->initialized()) {
     // Loose coupling (seed B.3 fix, Gaussian weighting as in seed A, S302), the EKF, and
     // the first fix of a tight run.
+    if (filter_->initialized()) uwb_->observe(s, filter_->estimate());
     if (fix) {
       const std::uint64_t gated = stats_.fixes_gated;
       apply_position(*fix);
@@ -544,6 +547,12 @@ void FusionEngine::on_uwb(const UwbSample& s, std::vector<PoseEstimate>& out) {
   // Gate at the mean only to notice a lost track, never to refuse an update: the robust
   // likelihood already discounts outliers.
   const PlanarEstimate e = pf_->estimate();
+  uwb_->observe(s, e);  // height and bias from the estimate before this range weighed it
+  if (uwb_->nlos(s.anchor)) {  // part 4: an anchor whose recent ranges read long is not weighed
+    ++st.nlos_set_aside;
+    if (!have_imu_) emit(s.t, out, true);
+    return;
+  }
   const UwbNoiseModel& nm = uwb_->options().noise;
   const double spread = std::sqrt(std::max(0.0, e.cov_p.trace()));
   const double range_tol = uwb_->options().gate_sigma * std::hypot(nm.range_sigma_m, spread);
@@ -623,6 +632,10 @@ void FusionEngine::emit(TimeNs t, std::vector<PoseEstimate>& out, bool force) {
   PoseEstimate p;
   p.t = t;
   p.p_BinW = {e.p.x(), e.p.y(), device_height_m_};
+  if (uwb_->estimates_height()) {  // issue 16 part 3: z learnt from the ranges
+    p.p_BinW.z() = uwb_->height_m();
+    p.sigma_z = uwb_->height_sigma_m();
+  }
   if (ahrs_.initialized()) {
     // The fused yaw: the AHRS's plus the filter's offset (issue 11); its sigma.
     const HeadingState h = heading_state();

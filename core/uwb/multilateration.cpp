@@ -13,8 +13,43 @@ double horizontal(const RangeToAnchor& r, double z_B) {
   return std::sqrt(std::max(0.0, r.range_m * r.range_m - dz * dz));
 }
 
+// Distance of p outside the convex hull of pts (0 inside; for fewer than 3 non-collinear
+// points, the distance to the nearest segment).
+double outside_hull_m(std::vector<Eigen::Vector2d> pts, const Eigen::Vector2d& p) {
+  // Andrew's monotone chain.
+  std::sort(pts.begin(), pts.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+  });
+  const auto cross = [](const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+  };
+  std::vector<Eigen::Vector2d> hull(2 * pts.size());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    while (k >= 2 && cross(hull[k - 2], hull[k - 1], pts[i]) <= 0) --k;
+    hull[k++] = pts[i];
+  }
+  for (std::size_t i = pts.size() - 1, t = k + 1; i-- > 0;) {
+    while (k >= t && cross(hull[k - 2], hull[k - 1], pts[i]) <= 0) --k;
+    hull[k++] = pts[i];
+  }
+  hull.resize(k > 1 ? k - 1 : k);
+  bool inside = hull.size() >= 3;
+  double best = 1e300;
+  for (std::size_t i = 0; i < hull.size(); ++i) {
+    const Eigen::Vector2d& a = hull[i];
+    const Eigen::Vector2d& b = hull[(i + 1) % hull.size()];
+    if (hull.size() >= 3 && cross(a, b, p) < 0) inside = false;  // counter-clockwise hull
+    const Eigen::Vector2d ab = b - a;
+    const double t = ab.squaredNorm() > 0 ? std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0) : 0.0;
+    best = std::min(best, (a + t * ab - p).norm());
+  }
+  return inside ? 0.0 : best;
+}
+
 std::optional<Multilateration> solve(const std::vector<RangeToAnchor>& ranges, double z_B,
-                                     const MultilaterationOptions& o) {
+                                     const MultilaterationOptions& o,
+                                     const std::optional<Eigen::Vector2d>& start = std::nullopt) {
   const std::size_t n = ranges.size();
   if (n < 3) return std::nullopt;
   for (const RangeToAnchor& r : ranges)
@@ -34,7 +69,7 @@ std::optional<Multilateration> solve(const std::vector<RangeToAnchor>& ranges, d
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(A, Eigen::ComputeThinU | Eigen::ComputeThinV);
   const Eigen::VectorXd sv = svd.singularValues();
   if (sv.size() < 2 || !(sv(1) > 1e-6 * std::max(1.0, sv(0)))) return std::nullopt;  // collinear anchors
-  Eigen::Vector2d p = svd.solve(b);
+  Eigen::Vector2d p = start ? *start : Eigen::Vector2d(svd.solve(b));
 
   Multilateration out;
   Eigen::Matrix2d H = Eigen::Matrix2d::Zero();
@@ -74,7 +109,10 @@ std::optional<Multilateration> solve(const std::vector<RangeToAnchor>& ranges, d
 }  // namespace
 
 std::optional<Multilateration> multilaterate(const std::vector<RangeToAnchor>& ranges, double z_B,
-                                             const MultilaterationOptions& o) {
+                                             const MultilaterationOptions& o, const std::vector<Eigen::Vector2d>& area) {
+  std::vector<Eigen::Vector2d> hull_points = area;
+  if (hull_points.empty())
+    for (const RangeToAnchor& r : ranges) hull_points.push_back(r.p_AinW.head<2>());
   std::optional<Multilateration> best = solve(ranges, z_B, o);
   // NLOS identification: with a redundant anchor, a residual well above the noise
   // suggests one biased range; the subset without it that fits best wins if it fits
@@ -87,6 +125,22 @@ std::optional<Multilateration> multilaterate(const std::vector<RangeToAnchor>& r
       const std::optional<Multilateration> m = solve(subset, z_B, o);
       if (m && (!best || m->rms_m < 0.5 * best->rms_m)) best = m;
     }
+  }
+  if (best && outside_hull_m(hull_points, best->fix.z) > o.hull_margin_m) {
+    // A mirror? Re-solve from inside the hull: the centroid, and the solution reflected
+    // through it; an inside fit at most 1.5x the residual RMS (or within one range sigma)
+    // is the answer, else the outside one stands, flagged.
+    Eigen::Vector2d c = Eigen::Vector2d::Zero();
+    for (const Eigen::Vector2d& a : hull_points) c += a / static_cast<double>(hull_points.size());
+    for (const Eigen::Vector2d& s : {c, Eigen::Vector2d(2.0 * c - best->fix.z)}) {
+      const std::optional<Multilateration> m = solve(ranges, z_B, o, s);
+      if (m && outside_hull_m(hull_points, m->fix.z) <= o.hull_margin_m &&
+          m->rms_m <= std::max(1.5 * best->rms_m, best->rms_m + o.range_sigma_m)) {
+        best = m;
+        break;
+      }
+    }
+    best->outside_hull = outside_hull_m(hull_points, best->fix.z) > o.hull_margin_m;
   }
   return best;
 }

@@ -26,6 +26,9 @@ class UwbAnchorTable {
     return it == calibrations_.end() ? measured_m : it->second.corrected_range(measured_m);
   }
 
+  bool calibrated(int id) const { return calibrations_.count(id) > 0; }
+  const std::map<int, Eigen::Vector3d>& positions() const { return anchors_; }
+
   std::optional<Eigen::Vector3d> find(int id) const {
     const auto it = anchors_.find(id);
     if (it == anchors_.end()) return std::nullopt;

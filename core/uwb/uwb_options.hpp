@@ -1,9 +1,14 @@
 #pragma once
 // How the fusion uses UWB (`luxloc run --uwb-*`, docs/UWB_VO_CALIB.md).
+#include "core/uwb/height_bias_filter.hpp"
 #include "core/uwb/multilateration.hpp"
 #include "core/uwb/uwb_noise_model.hpp"
 
 namespace luxloc {
+
+// Online estimation of a nuisance state (`run --uwb-height`, `--uwb-bias`): automatic turns
+// it on where the configured anchors observe it (UwbFrontend's constructor says when).
+enum class UwbOnline { off, on, automatic };
 
 struct UwbOptions {
   bool enabled = true;
@@ -20,6 +25,11 @@ struct UwbOptions {
   // UWB alone: output every UWB position fix (seed B.3 / multilateration) as the pose,
   // no filter (the "UWB alone" baseline of the figures).
   bool fixes_only = false;
+  // Issue 16 parts 1 and 3: the device height and per-anchor range biases learnt while
+  // running (core/uwb/height_bias_filter.hpp), not in --uwb-alone (the plain baseline).
+  UwbOnline height = UwbOnline::automatic;
+  UwbOnline bias = UwbOnline::automatic;
+  HeightBiasOptions online;
 };
 
 }  // namespace luxloc

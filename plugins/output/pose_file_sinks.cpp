@@ -37,6 +37,8 @@ std::string pose_csv_row(const PoseEstimate& p) {
   s += mode;
   s += ',';
   s += format_fixed(p.sigma_yaw, 5);
+  s += ',';
+  s += format_fixed(p.sigma_z, 5);
   s += '\n';
   return s;
 }

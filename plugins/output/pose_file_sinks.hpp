@@ -2,7 +2,7 @@
 // Pose files (SPEC.md "Pose output"), `--out FILE` ("-" = stdout) with `--format csv|tum`.
 //
 // CSV: a header row, then one row per pose, columns in this order:
-//   t,x,y,z,yaw,sigma_x,sigma_y,roll,pitch,n_eff,leds,mode,sigma_yaw
+//   t,x,y,z,yaw,sigma_x,sigma_y,roll,pitch,n_eff,leds,mode,sigma_yaw,sigma_z
 // t in seconds with 6 decimals (printed from the integer ns timeline), positions and
 // sigmas in m with 5 decimals, angles in rad with 5 decimals, n_eff with 1 decimal.
 // An unknown value (NaN: sigma before the filter has one, n_eff of a non-particle filter)
@@ -25,7 +25,7 @@ enum class PoseFileFormat { kCsv, kTum };
 // "csv" or "tum"; anything else -> InputError naming the option.
 PoseFileFormat parse_pose_format(const std::string& name);
 
-inline constexpr const char* kPoseCsvHeader = "t,x,y,z,yaw,sigma_x,sigma_y,roll,pitch,n_eff,leds,mode,sigma_yaw";
+inline constexpr const char* kPoseCsvHeader = "t,x,y,z,yaw,sigma_x,sigma_y,roll,pitch,n_eff,leds,mode,sigma_yaw,sigma_z";
 // One CSV data row (with its '\n').
 std::string pose_csv_row(const PoseEstimate& pose);
 // One TUM line (with its '\n'); empty when the pose is not finite.

@@ -66,6 +66,7 @@ std::string pose_json(const PoseEstimate& p, std::uint64_t seq) {
   append_number(s, "sigma_x", format_fixed(p.sigma_x, 5));
   append_number(s, "sigma_y", format_fixed(p.sigma_y, 5));
   append_number(s, "sigma_yaw", format_fixed(p.sigma_yaw, 5));
+  append_number(s, "sigma_z", format_fixed(p.sigma_z, 5));
   append_number(s, "roll", format_fixed(p.roll, 5));
   append_number(s, "pitch", format_fixed(p.pitch, 5));
   append_number(s, "n_eff", format_fixed(p.n_eff, 1));

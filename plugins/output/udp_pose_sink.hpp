@@ -2,7 +2,7 @@
 // JSON-over-UDP pose output (SPEC.md "Pose output", `--udp HOST:PORT`, repeatable: one sink
 // per target). One flat JSON object per datagram, numeric fields only:
 //   {"t":12.345678,"x":1.23456,"y":..,"z":..,"yaw":..,"sigma_x":..,"sigma_y":..,
-//    "sigma_yaw":..,"roll":..,"pitch":..,"n_eff":..,"leds":3,"seq":41}
+//    "sigma_yaw":..,"sigma_z":..,"roll":..,"pitch":..,"n_eff":..,"leds":3,"seq":41}
 // the shape PlotJuggler's UDP/JSON server takes as is. A value that is unknown (NaN, e.g.
 // sigma before the filter has one, n_eff of a non-particle filter) is OMITTED, never
 // written as NaN or null. seq counts every pose handed to write() from 0, so a receiver

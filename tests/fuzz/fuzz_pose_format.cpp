@@ -104,11 +104,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::string row = pose_csv_row(p);
   if (row.empty() || row.back() != '\n') fuzz::fail("CSV row without its newline");
   const auto fields = split(row.substr(0, row.size() - 1), ',');
-  if (fields.size() != 13) fuzz::fail("CSV row with " + std::to_string(fields.size()) + " fields: " + row);
+  if (fields.size() != 14) fuzz::fail("CSV row with " + std::to_string(fields.size()) + " fields: " + row);
   const double values[] = {p.p_BinW.x(), p.p_BinW.y(), p.p_BinW.z(), p.yaw, p.sigma_x, p.sigma_y, p.roll, p.pitch, p.n_eff};
   for (int k = 0; k < 9; ++k)
     if (fields[1 + k].empty() == std::isfinite(values[k])) fuzz::fail("CSV field " + std::to_string(1 + k) + " wrong: " + row);
   if (fields[12].empty() == std::isfinite(p.sigma_yaw)) fuzz::fail("CSV field 12 (sigma_yaw) wrong: " + row);
+  if (fields[13].empty() == std::isfinite(p.sigma_z)) fuzz::fail("CSV field 13 (sigma_z) wrong: " + row);
 
   const std::string tum = pose_tum_line(p);
   const bool writable = p.p_BinW.allFinite();  // an unknown yaw is written as the identity

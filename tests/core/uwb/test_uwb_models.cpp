@@ -135,3 +135,23 @@ TEST_CASE("UWB particle likelihood peaks at the device, the frontend groups rang
   CHECK_FALSE(fe.likelihood(unknown));
   CHECK(fe.stats().unknown_anchor == 1);
 }
+
+TEST_CASE("Multilateration: a fix outside the anchors' hull is flagged, one inside is not", "[uwb]") {
+  // Issue 16 part 4: anchors along one wall see a point and its mirror through the wall alike;
+  // the fix may be either, so it must say it lies outside the anchors.
+  const std::vector<Eigen::Vector3d> wall = {{0, 0, 2.5}, {3, 0.3, 2.5}, {6, 0, 2.5}, {9, 0.3, 2.5}};
+  const std::vector<Eigen::Vector3d> room = {{0, 0, 2.5}, {8, 0, 0.3}, {8, 6, 2.5}, {0, 6, 0.3}};
+  const auto ranges = [](const std::vector<Eigen::Vector3d>& anchors, const Eigen::Vector3d& p) {
+    std::vector<RangeToAnchor> r;
+    for (const auto& a : anchors) r.push_back({a, (p - a).norm()});
+    return r;
+  };
+  const auto out = multilaterate(ranges(wall, {4.5, 4.0, 1.0}), 1.0);
+  REQUIRE(out);
+  CHECK(out->outside_hull);
+  CHECK(std::abs(std::abs(out->fix.z.y()) - 4.0) < 0.3);  // the point or its mirror, flagged either way
+  const auto in = multilaterate(ranges(room, {2.0, 1.5, 1.0}), 1.0);
+  REQUIRE(in);
+  CHECK_FALSE(in->outside_hull);
+  CHECK((in->fix.z - Eigen::Vector2d(2.0, 1.5)).norm() < 0.01);
+}

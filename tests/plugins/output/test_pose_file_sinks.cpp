@@ -43,6 +43,7 @@ PoseEstimate sample_pose() {
   p.sigma_x = 0.05;
   p.sigma_y = 0.07;
   p.sigma_yaw = 0.0123;
+  p.sigma_z = 0.04;
   p.n_eff = 812.4;
   p.leds = 3;
   p.mode = "fused";
@@ -80,9 +81,9 @@ TEST_CASE("CSV pose sink: header, column order and number format", "[io]") {
   }
   const auto l = lines(read_text(path));
   REQUIRE(l.size() == 3);
-  CHECK(l[0] == "t,x,y,z,yaw,sigma_x,sigma_y,roll,pitch,n_eff,leds,mode,sigma_yaw");
+  CHECK(l[0] == "t,x,y,z,yaw,sigma_x,sigma_y,roll,pitch,n_eff,leds,mode,sigma_yaw,sigma_z");
   const auto f = split(l[1], ',');
-  REQUIRE(f.size() == 13);
+  REQUIRE(f.size() == 14);
   CHECK(f[0] == "1700000123.456789");
   CHECK(f[1] == "1.23457");
   CHECK(f[2] == "-2.50000");
@@ -96,14 +97,16 @@ TEST_CASE("CSV pose sink: header, column order and number format", "[io]") {
   CHECK(f[10] == "3");
   CHECK(f[11] == "fused");
   CHECK(f[12] == "0.01230");
+  CHECK(f[13] == "0.04000");
   const auto g = split(l[2], ',');
-  REQUIRE(g.size() == 13);
+  REQUIRE(g.size() == 14);
   CHECK(g[0] == "2.000000");
   CHECK(g[5].empty());
   CHECK(g[6].empty());
   CHECK(g[9].empty());
   CHECK(g[11] == "init_with comma");
   CHECK(g[12].empty());
+  CHECK(g[13].empty());  // z nominal, not estimated
   CHECK(read_text(path).find("nan") == std::string::npos);
 }
 

@@ -1,0 +1,128 @@
+#include "core/uwb/height_bias_filter.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace luxloc {
+
+HeightBiasFilter::HeightBiasFilter(const HeightBiasOptions& options, double nominal_height_m)
+    : options_(options), nominal_height_m_(nominal_height_m), x_(Eigen::VectorXd::Zero(6)),
+      P_(Eigen::MatrixXd::Zero(6, 6)) {
+  x_(2) = nominal_height_m;
+  // Without height estimation z keeps the nominal height exactly (zero covariance and no
+  // process noise: no update moves it).
+  if (options_.estimate_height) {
+    P_(2, 2) = options_.height_sigma0_m * options_.height_sigma0_m;
+    P_(5, 5) = options_.speed_sigma0_mps * options_.speed_sigma0_mps;
+  }
+}
+
+void HeightBiasFilter::add_anchor(int id, bool calibrated) {
+  if (!options_.estimate_bias || anchors_.count(id)) return;
+  const Eigen::Index n = x_.size();
+  x_.conservativeResize(n + 1);
+  x_(n) = 0.0;
+  P_.conservativeResize(n + 1, n + 1);
+  P_.row(n).setZero();
+  P_.col(n).setZero();
+  const double s0 = calibrated ? options_.calibrated_bias_sigma0_m : options_.bias_sigma0_m;
+  P_(n, n) = s0 * s0;
+  anchors_[id] = AnchorState{n, 0.0};
+}
+
+void HeightBiasFilter::start(TimeNs t, const Eigen::Vector2d& p_xy, const Eigen::Matrix2d& cov_xy) {
+  if (t_ || !enabled() || !p_xy.allFinite() || !cov_xy.allFinite()) return;
+  t_ = t;
+  x_.head<2>() = p_xy;
+  const double s0 = options_.position_sigma0_m, v0 = options_.speed_sigma0_mps;
+  P_.topLeftCorner<2, 2>() = cov_xy + Eigen::Matrix2d::Identity() * s0 * s0;
+  P_(3, 3) = P_(4, 4) = v0 * v0;
+}
+
+void HeightBiasFilter::predict(TimeNs t) {
+  if (!t_ || t <= *t_) return;
+  const double dt = ns_to_seconds(t - *t_);
+  t_ = t;
+  // Constant velocity with white acceleration (the discrete Wiener process model) per axis;
+  // z only when it is estimated.
+  const int axes = options_.estimate_height ? 3 : 2;
+  for (int a = 0; a < axes; ++a) {
+    x_(a) += x_(3 + a) * dt;
+    P_.row(a) += dt * P_.row(3 + a);
+    P_.col(a) += dt * P_.col(3 + a);
+    const double q = a < 2 ? options_.horizontal_accel_psd : options_.vertical_accel_psd;
+    P_(a, a) += q * dt * dt * dt / 3.0;
+    P_(a, 3 + a) += q * dt * dt / 2.0;
+    P_(3 + a, a) += q * dt * dt / 2.0;
+    P_(3 + a, 3 + a) += q * dt;
+  }
+  if (x_(2) < options_.min_height_m || x_(2) > options_.max_height_m) {
+    x_(2) = std::clamp(x_(2), options_.min_height_m, options_.max_height_m);
+    x_(5) = 0.0;
+  }
+  for (auto& [id, a] : anchors_) P_(a.k, a.k) += options_.bias_walk_psd * dt;
+}
+
+HeightBiasFilter::Outcome HeightBiasFilter::update(int id, const Eigen::Vector3d& a_inW, double range_m,
+                                                   double range_sigma_m) {
+  if (!t_ || !std::isfinite(range_m) || !a_inW.allFinite()) return Outcome::skipped;
+  const Eigen::Vector3d d = x_.head<3>() - a_inW;
+  const double dn = d.norm();
+  if (!(dn > 0.05)) return Outcome::skipped;  // on the anchor: no direction
+  const auto it = anchors_.find(id);
+  const Eigen::Index n = x_.size();
+  Eigen::RowVectorXd H = Eigen::RowVectorXd::Zero(n);
+  H.head<3>() = d.transpose() / dn;
+  if (!options_.estimate_height) H(2) = 0.0;
+  if (it != anchors_.end()) H(it->second.k) = 1.0;
+  const double b = it != anchors_.end() ? x_(it->second.k) : 0.0;
+  const double nu = range_m - (dn + b);
+  const Eigen::VectorXd PHt = P_ * H.transpose();
+  const double R = range_sigma_m * range_sigma_m;
+  const double S = H.dot(PHt) + R;
+  Outcome out = Outcome::used;
+  if (nu > options_.gate_sigma * std::sqrt(S))
+    out = Outcome::gated_long;
+  else if (nu < -options_.gate_sigma * std::sqrt(S))
+    out = Outcome::gated_short;
+  if (it != anchors_.end()) {
+    const double w = options_.nlos_memory;
+    it->second.long_share = (1.0 - w) * it->second.long_share + w * (out == Outcome::gated_long ? 1.0 : 0.0);
+  }
+  if (out == Outcome::gated_long) {
+    ++stats_.gated_long;
+    return out;
+  }
+  if (out == Outcome::gated_short) {
+    ++stats_.gated_short;
+    return out;
+  }
+  // Kalman update, Joseph form (P stays symmetric positive semi-definite).
+  const Eigen::VectorXd K = PHt / S;
+  x_ += K * nu;
+  const Eigen::MatrixXd I_KH = Eigen::MatrixXd::Identity(n, n) - K * H;
+  P_ = I_KH * P_ * I_KH.transpose() + R * K * K.transpose();
+  ++stats_.used;
+  return out;
+}
+
+double HeightBiasFilter::height_m() const { return options_.estimate_height && t_ ? x_(2) : nominal_height_m_; }
+
+double HeightBiasFilter::height_sigma_m() const { return std::sqrt(std::max(0.0, P_(2, 2))); }
+
+double HeightBiasFilter::bias_m(int id) const {
+  const auto it = anchors_.find(id);
+  return it == anchors_.end() ? 0.0 : x_(it->second.k);
+}
+
+double HeightBiasFilter::bias_sigma_m(int id) const {
+  const auto it = anchors_.find(id);
+  return it == anchors_.end() ? 0.0 : std::sqrt(std::max(0.0, P_(it->second.k, it->second.k)));
+}
+
+bool HeightBiasFilter::nlos(int id) const {
+  const auto it = anchors_.find(id);
+  return it != anchors_.end() && it->second.long_share > options_.nlos_share;
+}
+
+}  // namespace luxloc

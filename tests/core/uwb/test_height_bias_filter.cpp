@@ -1,0 +1,101 @@
+// Issue 16 parts 1, 3, 4: the online height / per-anchor bias filter, fed by ranges alone
+// (started 0.3 m off the true position, as a biased first fix would put it).
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <random>
+
+#include "core/uwb/height_bias_filter.hpp"
+
+using namespace luxloc;
+
+namespace {
+
+// The sim drone's arena: 8 anchors on the walls, alternately at 0.3 and 2.6 m.
+std::vector<Eigen::Vector3d> arena() {
+  static constexpr double xy[8][2] = {{0.2, 0.2}, {4.0, 0.2}, {7.8, 0.2}, {7.8, 3.0},
+                                      {7.8, 5.8}, {4.0, 5.8}, {0.2, 5.8}, {0.2, 3.0}};
+  std::vector<Eigen::Vector3d> a;
+  for (int i = 0; i < 8; ++i) a.emplace_back(xy[i][0], xy[i][1], i % 2 == 0 ? 0.3 : 2.6);
+  return a;
+}
+
+struct Flight {
+  double z_rms = 0.0, bias_err_max = 0.0, blocked_bias_err = 0.0;
+  bool blocked_flagged = false, others_flagged = false;
+};
+
+// 40 s around a 4 m circle at 1 m/s, z = 1.1 + 0.6 sin(2 pi t / 20), 10 Hz per anchor
+// taking turns, 5 cm noise, biases -0.45 .. +0.08 m; anchor `blocked` (1-based, 0: none)
+// reads NLOS (+0.3 .. +1.5 m) from 15 to 30 s.
+Flight fly(int blocked, std::uint64_t seed) {
+  const std::vector<Eigen::Vector3d> a = arena();
+  const double bias[8] = {-0.45, -0.30, 0.08, -0.12, -0.38, -0.02, -0.25, 0.05};
+  HeightBiasOptions o;
+  o.estimate_height = o.estimate_bias = true;
+  HeightBiasFilter f(o, 1.1);
+  for (int i = 0; i < 8; ++i) f.add_anchor(i + 1, false);
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> noise(0.0, 0.05);
+  std::uniform_real_distribution<double> nlos(0.3, 1.5);
+  double z_sq = 0.0;
+  int n_z = 0;
+  Flight out;
+  for (int k = 0; k < 400 * 8; ++k) {
+    const double t = 0.0125 * k;  // 8 anchors x 10 Hz
+    const int i = k % 8;
+    const Eigen::Vector3d p(4.0 + 2.0 * std::cos(t / 2.0), 3.0 + 2.0 * std::sin(t / 2.0),
+                            1.1 + 0.6 * std::sin(2.0 * 3.141592653589793 * t / 20.0));
+    double r = (p - a[static_cast<std::size_t>(i)]).norm() + bias[i] + noise(rng);
+    if (i + 1 == blocked && t >= 15.0 && t < 30.0) r += nlos(rng);
+    if (k == 0) f.start(0, p.head<2>() + Eigen::Vector2d(0.3, -0.2), Eigen::Matrix2d::Identity() * 0.3 * 0.3);
+    f.predict(seconds_to_ns(t));
+    f.update(i + 1, a[static_cast<std::size_t>(i)], r, 0.05);
+    if (t > 10.0) {
+      z_sq += (f.height_m() - p.z()) * (f.height_m() - p.z());
+      ++n_z;
+    }
+    if (t > 20.0 && t < 30.0) {
+      if (i + 1 == blocked) out.blocked_flagged = out.blocked_flagged || f.nlos(i + 1);
+      else out.others_flagged = out.others_flagged || f.nlos(i + 1);
+    }
+  }
+  out.z_rms = std::sqrt(z_sq / n_z);
+  for (int i = 0; i < 8; ++i) {
+    const double e = std::abs(f.bias_m(i + 1) - bias[i]);
+    if (i + 1 == blocked) out.blocked_bias_err = e;
+    else out.bias_err_max = std::max(out.bias_err_max, e);
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("height / bias filter: learns every anchor's bias and the height from ranges", "[uwb][height]") {
+  const Flight f = fly(0, 1);
+  INFO("z rms " << f.z_rms << " m, worst bias error " << f.bias_err_max << " m");
+  CHECK(f.z_rms < 0.05);
+  CHECK(f.bias_err_max < 0.04);
+  CHECK_FALSE(f.others_flagged);
+}
+
+TEST_CASE("height / bias filter: an anchor in NLOS is flagged and does not pull its bias", "[uwb][height]") {
+  const Flight f = fly(3, 2);
+  INFO("z rms " << f.z_rms << " m, blocked anchor's bias error " << f.blocked_bias_err << " m, others "
+                << f.bias_err_max);
+  CHECK(f.blocked_flagged);
+  CHECK_FALSE(f.others_flagged);
+  CHECK(f.blocked_bias_err < 0.05);
+  CHECK(f.bias_err_max < 0.04);
+  CHECK(f.z_rms < 0.05);
+}
+
+TEST_CASE("height / bias filter: off, it keeps the nominal height and zero biases", "[uwb][height]") {
+  HeightBiasFilter f(HeightBiasOptions{}, 1.1);
+  f.add_anchor(1, false);
+  f.start(0, {2, 0}, Eigen::Matrix2d::Identity() * 1e-4);
+  f.predict(seconds_to_ns(0.1));
+  CHECK(f.update(1, {0, 0, 2.6}, 3.0, 0.05) == HeightBiasFilter::Outcome::skipped);
+  CHECK(f.height_m() == 1.1);
+  CHECK(f.height_sigma_m() == 0.0);
+  CHECK(f.bias_m(1) == 0.0);
+}
