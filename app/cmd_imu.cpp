@@ -48,6 +48,7 @@ struct ImuArgs {
   double mag_gate_deg = kMahonyDefaults.mag_heading_gate_rad * 180.0 / std::numbers::pi;
   double mag_rejection = kMahonyDefaults.mag_rejection;
   bool no_bias_at_rest = false;
+  bool no_still_mag_turn = false;
   double duration_s = 0.0;
 };
 
@@ -121,6 +122,7 @@ int run_imu(const ImuArgs& a) {
   mo.mag_heading_gate_rad = a.mag_gate_deg * std::numbers::pi / 180.0;
   mo.mag_rejection = a.mag_rejection;
   mo.bias_at_rest = !a.no_bias_at_rest;
+  mo.still_checks_mag_turn = !a.no_still_mag_turn;
   mo.use_magnetometer = !a.no_mag;
   MahonyFilter ahrs(mo);
   PdrOptions po;
@@ -306,6 +308,8 @@ void add_imu_command(CLI::App& root, Action& action) {
       ->capture_default_str();
   cmd->add_flag("--no-bias-at-rest", args->no_bias_at_rest,
                 "do not take the mean rate at standstills as the gyro bias (only the magnetometer learns it)");
+  cmd->add_flag("--no-still-mag-turn", args->no_still_mag_turn,
+                "the standstill test does not ask the magnetometer whether the device turns slowly (for comparisons)");
   cmd->add_option("--steps", args->steps, "also run pedestrian dead reckoning; write t,length_m,heading_rad,x,y per step");
   cmd->add_option("--step-model", args->step_model, "step-length model")
       ->check(CLI::IsMember({"weinberg", "cadence", "constant"}))

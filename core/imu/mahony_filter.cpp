@@ -115,8 +115,19 @@ void MahonyFilter::update(const ImuSample& s) {
   const bool was_still = still_.still();
   still_.update(s);
   // A still run that turned out to be a slow turn (the field turned in the body): its mean
-  // rate was the turn, not the bias; back to the bias before it.
-  if (was_still && !still_.still() && still_.last_run_was_turn()) bias_ = bias_before_still_;
+  // rate was bias plus turn. Back to the bias before the run when a rest has taught one.
+  // Before any (the first standstill, ended by a walk that starts on a curve), that would
+  // be no bias at all: the run's mean less the turn the field measured over it is then the
+  // best estimate (issue 11: the poor grade's 1 deg/s learnt in the first 2 s was dropped).
+  if (options_.bias_at_rest && was_still && !still_.still()) {
+    if (!still_.last_run_was_turn()) {
+      bias_from_rest_ = true;
+    } else if (const std::optional<double> rate = still_.run_field_turn_rate_rps(); rate && !bias_from_rest_) {
+      bias_ = still_.still_mean_gyro() - q_.toRotationMatrix().transpose().col(2) * *rate;
+    } else {
+      bias_ = bias_before_still_;
+    }
+  }
   if (!was_still && still_.still()) bias_before_still_ = bias_;
   dt = std::min(dt, options_.max_dt_s);
   t_ = s.t;

@@ -171,6 +171,7 @@ class MahonyFilter {
   bool last_mag_rejected_ = false, last_acc_rejected_ = false;
   StillDetector still_;
   Eigen::Vector3d bias_before_still_ = Eigen::Vector3d::Zero();  // restored when a still run was a slow turn
+  bool bias_from_rest_ = false;  // a still run that was rest (not a turn) has set the bias
   // Magnetic reference: magnitude (sensor units) and dip (angle below the horizon).
   bool mag_ref_valid_ = false;
   double mag_ref_norm_ = 0.0, mag_ref_dip_ = 0.0;

@@ -1,5 +1,6 @@
 #include "core/imu/still_detector.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include <Eigen/Geometry>
@@ -20,6 +21,8 @@ void StillDetector::reset() {
   mag_acc_sum_.setZero();
   mag_n_ = 0;
   turning_ = false;
+  run_first_bucket_.reset();
+  run_last_bucket_.reset();
 }
 
 void StillDetector::add_mag(const ImuSample& s) {
@@ -39,7 +42,12 @@ void StillDetector::add_mag(const ImuSample& s) {
   mag_acc_sum_.setZero();
   mag_n_ = 0;
   if (!(h.norm() > 0.1 * m.norm())) return;  // near a magnetic pole: no heading in the field
-  mag_buckets_.push_back({mag_bucket_start_ + (s.t - mag_bucket_start_) / 2, h.normalized()});
+  mag_buckets_.push_back({mag_bucket_start_ + (s.t - mag_bucket_start_) / 2, h.normalized(), up, m.norm(),
+                          -std::asin(std::clamp(m.normalized().dot(up), -1.0, 1.0))});
+  if (still_) {  // a mean inside the current still run (decided by the samples before this one)
+    if (!run_first_bucket_) run_first_bucket_ = mag_buckets_.back();
+    run_last_bucket_ = mag_buckets_.back();
+  }
   const TimeNs span_ns = seconds_to_ns(options_.mag_turn_span_s);
   while (mag_buckets_.size() > 2 && mag_buckets_.back().t - mag_buckets_[1].t >= span_ns) mag_buckets_.pop_front();
   // Against every older mean, not only the oldest: a device swinging back and forth
@@ -94,16 +102,35 @@ bool StillDetector::update(const ImuSample& s) {
     if (++pops_since_recompute_ > 4096) recompute_sums();
   }
   full = full || (s.t - window_.front().t >= window_ns);
-  const bool now_still = full && evaluate() && !turning_;
-  if (still_ && !now_still) last_run_was_turn_ = turning_;
+  const bool quiet = full && evaluate();  // gyro and accelerometer at rest
+  const bool now_still = quiet && !turning_;
+  // The run was a slow turn only when it ends on the field's verdict alone. A run that ends
+  // because the device starts to move was rest: the start of a walk turns the field in the
+  // body too, and taking that for a slow turn threw away the bias learnt at rest (issue 11:
+  // the poor grade's 1 deg/s bias learnt in the first 2 s, forgotten at the first step).
+  if (still_ && !now_still) last_run_was_turn_ = quiet && turning_;
+  if (!quiet) {
+    // Moving: the field turns in the body, and means from the walk compared with the first
+    // means of a stop read as a turn for the next 2 s, so a 2 s stop never counted as rest
+    // (the walk's stops learnt no bias). The turn test compares means of the quiet time only.
+    mag_buckets_.clear();
+    mag_sum_.setZero();
+    mag_acc_sum_.setZero();
+    mag_n_ = 0;
+    turning_ = false;
+  }
   if (now_still && !still_) {
     still_since_ = s.t;
+    run_t0_ = window_.front().t;
+    run_first_bucket_.reset();
+    run_last_bucket_.reset();
     run_sum_g_ = sum_g_;
     run_n_ = window_.size();
   } else if (now_still) {
     run_sum_g_ += s.gyro_inB;
     ++run_n_;
   }
+  if (now_still) run_t1_ = s.t;
   still_ = now_still;
   t_last_ = s.t;
   return still_;
@@ -118,6 +145,20 @@ bool StillDetector::evaluate() const {
   const double sg = options_.gyro_std_max_rps, sa = options_.acc_std_max_mps2;
   return var_g.maxCoeff() <= sg * sg && var_a.maxCoeff() <= sa * sa && mg.norm() <= options_.gyro_mean_max_rps &&
          std::abs(ma.norm() - options_.gravity) <= options_.acc_norm_tolerance_mps2;
+}
+
+std::optional<double> StillDetector::run_field_turn_rate_rps() const {
+  if (!run_first_bucket_ || !run_last_bucket_ ||
+      ns_to_seconds(run_last_bucket_->t - run_first_bucket_->t) < options_.mag_rate_min_span_s || run_t1_ <= run_t0_)
+    return std::nullopt;
+  if (std::abs(run_last_bucket_->norm / run_first_bucket_->norm - 1.0) > options_.mag_rate_max_norm_change ||
+      std::abs(run_last_bucket_->dip - run_first_bucket_->dip) > options_.mag_rate_max_dip_change_rad)
+    return std::nullopt;
+  // The body turns one way, the field seen in it the other: minus the field's signed turn.
+  const Eigen::Vector3d& a = run_first_bucket_->dir;
+  const Eigen::Vector3d& b = run_last_bucket_->dir;
+  const double field_turn = std::atan2(a.cross(b).dot(run_last_bucket_->up), a.dot(b));
+  return -field_turn / ns_to_seconds(run_t1_ - run_t0_);
 }
 
 double StillDetector::still_duration_s() const { return still_ ? ns_to_seconds(t_last_ - still_since_) : 0.0; }
