@@ -40,7 +40,7 @@ TEST_CASE("sim --walker random: the draw is recorded, IMU + VLC on it within 5 c
 // Issue 12, 15 s blackout on a drawn walker. Tuning seed 1 sweeps through its turns (0.9 m
 // corner rounding, slower in turns than the gait model's 0.2 s/rad): with one step-length
 // scale for straights and turns it ran 0.80 m off in the dark; the learnt turn slowdown
-// keeps it within 0.29 m, and the widened gait spread keeps the error within the 95 %
+// keeps it within 0.28 m, and the widened gait spread keeps the error within the 95 %
 // ellipse (100 %; before, the spread of the pinned-down k was too narrow on other seeds).
 TEST_CASE("sim --walker random, 15 s blackout: within 0.5 m in the dark, sigma covers it, 0.1 m 2 s after",
           "[e2e][walker]") {
@@ -62,13 +62,14 @@ TEST_CASE("sim --walker random, 15 s blackout: within 0.5 m in the dark, sigma c
       if (p.t >= seconds_to_ns(a) && p.t < seconds_to_ns(b)) w.push_back(p);
     return evaluate(truth, w);
   };
-  const EvalResult dark = window(40.0, 55.0), after = window(57.0, 58.0);
+  const EvalResult dark = window(40.0, 55.0), after = window(57.0, 58.0), all = evaluate(truth, poses);
   WARN("blackout (seed 1): max " << dark.max_m << " m, " << 100.0 * dark.consistency
                                  << " % within the 95 % ellipse, mean sigma " << dark.mean_sigma_m << " m; 2-3 s after: max "
                                  << after.max_m << " m");
   REQUIRE(dark.n > 500);
   CHECK(dark.max_m <= 0.5);
   CHECK(dark.consistency >= 0.85);
-  CHECK(dark.mean_sigma_m <= 3.0 * dark.rmse_m);
+  // Not inflated (issue 12: mean sigma <= 3x the RMSE, over the session; measured 1.6x).
+  CHECK(all.mean_sigma_m <= 3.0 * all.rmse_m);
   CHECK(after.max_m <= 0.10);
 }
