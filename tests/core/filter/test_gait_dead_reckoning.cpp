@@ -85,7 +85,7 @@ TEST_CASE("Particle filter, pedestrian model: the walker's own turn slowdown is 
   CHECK(o.max_err_outage_m < 0.35);
 
   // Without the turn-slowdown state one scale must fit straights and turns: the outage
-  // drifts (measured 0.6 m with this seed; the learnt slowdown 0.1 m).
+  // drifts further.
   ParticleFilterOptions fixed = options();
   fixed.gait.turn_slowdown_sigma0 = fixed.gait.turn_slowdown_walk = 0.0;
   ParticleFilter pf_fixed(fixed);
