@@ -9,6 +9,9 @@
 #   blackout   the same with all lights off 40-55 s (max error in the blackout, and 2-3 s after)
 #   uwb        uwb scenario (one TOF + AOA base station, 5 % NLOS), IMU + UWB
 #   pdr        IMU only from the true start (--start): end error as % of the distance walked
+#   calib      PDR after calibration: lights for 30 s (the fixes calibrate the gait), then
+#              all lights off to the end (60 s): end error as % of the distance walked in the dark
+# (not run by default: CASES="vlc blackout uwb pdr calib" adds it)
 set -euo pipefail
 first=${1:-101}; last=${2:-130}; luxloc=${3:-build/luxloc}; shift $(( $# < 3 ? $# : 3 )) || true
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
@@ -21,6 +24,7 @@ for case in ${CASES:-vlc blackout uwb pdr}; do
     case $case in
       vlc) "$luxloc" sim --out "$d" --scenario walk "${args[@]}" > /dev/null ;;
       blackout) "$luxloc" sim --out "$d" --scenario walk "${args[@]}" --blackout 40:15 > /dev/null ;;
+      calib) "$luxloc" sim --out "$d" --scenario walk "${args[@]}" --blackout 30:60 > /dev/null ;;
       uwb) "$luxloc" sim --out "$d" --scenario uwb "${args[@]}" > /dev/null ;;
       pdr) "$luxloc" sim --out "$d" --scenario walk --no-frames "${args[@]}" > /dev/null
            start=$(awk -F, 'NR==2 { print $2 "," $3 "," $5 }' "$d/groundtruth.csv"); run=(--start "$start" --start-sigma 0.02) ;;
@@ -31,7 +35,7 @@ for case in ${CASES:-vlc blackout uwb pdr}; do
 import csv, json, math, sys
 e = json.load(open(sys.argv[1])); case = sys.argv[4]; seed = sys.argv[5]
 extra = float("nan")
-if case in ("blackout", "pdr"):
+if case in ("blackout", "pdr", "calib"):
     poses = list(csv.DictReader(open(sys.argv[2]))); truth = list(csv.DictReader(open(sys.argv[3])))
     tt = [float(r["t"]) for r in truth]
     import bisect
@@ -43,7 +47,8 @@ if case in ("blackout", "pdr"):
         extra2 = max(err(p) for p in poses if 57.0 <= float(p["t"]) < 58.0)
         extra = f"{extra:.3f}/{extra2:.3f}"
     else:
-        dist = sum(math.hypot(float(b["x"]) - float(a["x"]), float(b["y"]) - float(a["y"])) for a, b in zip(truth, truth[1:]))
+        walked = [r for r in truth if case == "pdr" or float(r["t"]) >= 30.0]  # calib: the dark stretch only
+        dist = sum(math.hypot(float(b["x"]) - float(a["x"]), float(b["y"]) - float(a["y"])) for a, b in zip(walked, walked[1:]))
         extra = f"{100 * err(poses[-1]) / dist:.2f}"
 yaw = math.degrees(e["yaw_p95_rad"]) if "yaw_p95_rad" in e else float("nan")
 print(seed, e["ate_rmse_m"], e["p95_m"], e["max_m"], e.get("consistency", float("nan")), yaw, extra)
@@ -51,10 +56,11 @@ PY
   done
   awk -v c="$case" '{ n++; ate += $2; p95 += $3; if ($4 > mx) { mx = $4; ms = $1 } cons += $5; if (n == 1 || $5 < wc) { wc = $5; ws = $1 }
       yaw += $6; if (c == "blackout") { split($7, b, "/"); if (b[1] > bd) { bd = b[1]; bs = $1 } if (b[2] > ba) ba = b[2] }
-      if (c == "pdr") { pd += $7; if ($7 > pw) { pw = $7; ps = $1 } } }
+      if (c == "pdr" || c == "calib") { pd += $7; if ($7 > pw) { pw = $7; ps = $1 } } }
     END { extra = "-"
       if (c == "blackout") extra = sprintf("blackout max %.3f m (seed %d), 2 s after max %.3f m", bd, bs, ba)
       if (c == "pdr") extra = sprintf("end error %.2f %% of distance (mean), worst %.2f %% (seed %d)", pd / n, pw, ps)
+      if (c == "calib") extra = sprintf("end error %.2f %% of the distance in the dark (mean), worst %.2f %% (seed %d)", pd / n, pw, ps)
       printf "| %s | %d | %.3f m | %.3f m | %.3f m (%d) | %.1f %% / %.1f %% (%d) | %.2f deg | %s |\n", c, n, ate / n, p95 / n, mx, ms,
              100 * cons / n, 100 * wc, ws, yaw / n, extra }' "$tmp/rows"
 done

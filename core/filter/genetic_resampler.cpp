@@ -127,6 +127,7 @@ GeneticStats genetic_resample(ParticleSet& set, std::span<const float> log_w, fl
           // the motion model's random walk keeps it diverse).
           set.ks[i] = alpha * set.ks[j] + (1.0f - alpha) * set.ks[i];
           set.dpsi[i] = alpha * set.dpsi[j] + (1.0f - alpha) * set.dpsi[i];
+          set.kturn[i] = alpha * set.kturn[j] + (1.0f - alpha) * set.kturn[i];
         }
         if (set.heading) set.yaw[i] = alpha * set.yaw[j] + (1.0f - alpha) * set.yaw[i];
       }

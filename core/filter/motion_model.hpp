@@ -61,6 +61,38 @@ struct GaitNoise {
   // walker population, seeds 1-10: sigma consistency 83 -> 86-88 %, ATE unchanged; 0.25 gave
   // 90-91 % but larger blackout excursions (the wider cloud wanders further in the dark).
   double turn_noise = 0.1;
+  // The walker's own slowdown in turns (s/rad), a third calibration state beside k and d:
+  // speed x (1 - kturn |omega|) on top of GaitSpeedOptions::turn_slowdown_s_per_rad (0.2,
+  // fitted to the default walker's 0.5 m corner rounding). Walkers who sweep through turns
+  // (the population's 0.3-1.0 m rounding) slow down as much over a turn taken at a lower
+  // yaw rate: tuning seeds 1-10, blackout 40:15, those with ~0.9 m rounding walked 7-17 %
+  // too slow on straights and too fast in turns with one k for both (blackout max 0.8 m,
+  // seeds 1-3). Clamped to [-0.2, 0.5]. Walk 0.02 per sqrt(s): with 0.003 the fixes
+  // collapsed the spread in the first seconds of the walk, before any turn (seeds 1-3:
+  // 0.80 -> 0.38 / 1.00 / 1.03 m); 0.02 gave 0.29 / 0.58 / 0.35 m, 0.05 a wider, inflated
+  // sigma (0.9 m on seed 1) for no better maximum. Initial spread 0.05 s/rad (the walk
+  // widens it within a minute): 0.15 and 0.10 let kturn trade off against the yaw-offset
+  // state e in turns seen with one LED (fused yaw p95 1.61 / 1.64 deg against 1.35 for the
+  // AHRS alone, tests/core/fusion/test_fusion_heading_e2e.cpp); blackout 40:15 over tuning
+  // seeds 1-10, 41-50: mean max 0.37 / 0.36 / 0.39 m for 0.15 / 0.10 / 0.05 (0.46 without
+  // the state), worst 0.82 / 0.81 / 0.72 m (1.11).
+  double turn_slowdown_sigma0 = 0.05;
+  double turn_slowdown_walk = 0.02;  // s/rad per sqrt(s)
+  double min_turn_slowdown = -0.2, max_turn_slowdown = 0.5;
+  double min_turn_factor = 0.4;      // floor of 1 - kturn |omega|
+  // Dead reckoning (no correction for dead_reckoning_after_s): the fixes pinned k and d to
+  // 1-2 % and a fraction of a degree for the stretch they saw, but the gait model's error
+  // changes from one stretch to the next (turns, pace). Once per outage the particles'
+  // spread of k and d is widened to at least these, so sigma grows with the distance as
+  // the real error does and the next good fix is inside it. Tuning seeds 1-10 and 41-50,
+  // blackout 40:15: the distance walked in the dark was off by 2-15 % (rms 6.5 %) before
+  // the turn slowdown state, 0-9 % after; 0.05 (with 1.5 deg) brought the poses within
+  // their 95 % ellipse during the blackout from 24-79 % to 47-100 % on the worst seeds.
+  // After 1.5 s: longer than the gap between two 1 Hz fixes, so sparse fixes do not
+  // re-widen what each of them pins down.
+  double dead_reckoning_scale_sigma = 0.05;
+  double dead_reckoning_heading_offset_sigma = 0.026;  // rad (1.5 deg)
+  double dead_reckoning_after_s = 1.5;
 };
 
 }  // namespace luxloc

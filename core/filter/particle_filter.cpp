@@ -233,14 +233,18 @@ void ParticleFilter::draw_gait_prior(std::uint64_t step) {
   const float s_k = static_cast<float>(options_.gait.scale_sigma0);
   const float s_d = static_cast<float>(options_.gait.heading_offset_sigma0);
   const float k_lo = static_cast<float>(options_.gait.min_scale), k_hi = static_cast<float>(options_.gait.max_scale);
+  const float s_t = static_cast<float>(options_.gait.turn_slowdown_sigma0);
+  const float t_lo = static_cast<float>(options_.gait.min_turn_slowdown);
+  const float t_hi = static_cast<float>(options_.gait.max_turn_slowdown);
   for_each_particle_chunk(set_.size(), [&](std::size_t c, std::size_t b, std::size_t e) {
     LaneRng rng(options_.seed, step, 0x6A170000ull + c);
-    alignas(32) float noise[2 * kBlock];
+    alignas(32) float noise[3 * kBlock];
     for (std::size_t blk = b; blk < e; blk += kBlock) {
       const std::size_t len = std::min(kBlock, e - blk);
-      rng.fill_normal(noise, LaneRng::round_up(2 * len, 16));
+      rng.fill_normal(noise, LaneRng::round_up(3 * len, 16));
       MapF(set_.ks.data() + blk, idx(len)) = (1.0f + s_k * CMapU(noise, idx(len))).max(k_lo).min(k_hi);
       MapF(set_.dpsi.data() + blk, idx(len)) = s_d * CMapU(noise + len, idx(len));
+      MapF(set_.kturn.data() + blk, idx(len)) = (s_t * CMapU(noise + 2 * len, idx(len))).max(t_lo).min(t_hi);
     }
   });
 }
@@ -360,6 +364,11 @@ void ParticleFilter::predict_gait(const MotionInput& u) {
   const float s_k = static_cast<float>(options_.gait.scale_walk * std::sqrt(dt));
   const float s_d = static_cast<float>(options_.gait.heading_offset_walk * std::sqrt(dt));
   const float k_lo = static_cast<float>(options_.gait.min_scale), k_hi = static_cast<float>(options_.gait.max_scale);
+  const float s_t = static_cast<float>(options_.gait.turn_slowdown_walk * std::sqrt(dt));
+  const float t_lo = static_cast<float>(options_.gait.min_turn_slowdown);
+  const float t_hi = static_cast<float>(options_.gait.max_turn_slowdown);
+  const float w_turn = std::isfinite(g.abs_turn_rate_rps) ? static_cast<float>(std::abs(g.abs_turn_rate_rps)) : 0.0f;
+  const float f_lo = static_cast<float>(options_.gait.min_turn_factor);
   const float fspeed = static_cast<float>(speed), half_dt = static_cast<float>(0.5 * dt);
   const float ac = s_along * c, as = s_along * s, cc = s_cross * c, cs = s_cross * s;
   walk_heading(u);
@@ -370,25 +379,27 @@ void ParticleFilter::predict_gait(const MotionInput& u) {
   const bool weighted = !uniform_;
   for_each_particle_chunk(n, [&](std::size_t ch, std::size_t b, std::size_t e) {
     LaneRng rng(options_.seed, step, ch);
-    alignas(32) float noise[4 * kBlock];
+    alignas(32) float noise[5 * kBlock];
     alignas(32) float wbuf[kBlock];
     double m[8] = {};
     for (std::size_t blk = b; blk < e; blk += kBlock) {
       const std::size_t len = std::min(kBlock, e - blk);
-      rng.fill_normal(noise, LaneRng::round_up(4 * len, 16));
+      rng.fill_normal(noise, LaneRng::round_up(5 * len, 16));
       const CMapU n1(noise, idx(len)), n2(noise + len, idx(len)), n3(noise + 2 * len, idx(len)),
-          n4(noise + 3 * len, idx(len));
+          n4(noise + 3 * len, idx(len)), n5(noise + 4 * len, idx(len));
       MapF X(set_.x.data() + blk, idx(len)), Y(set_.y.data() + blk, idx(len));
       MapF VX(set_.vx.data() + blk, idx(len)), VY(set_.vy.data() + blk, idx(len));
       MapF K(set_.ks.data() + blk, idx(len)), D(set_.dpsi.data() + blk, idx(len));
+      MapF KT(set_.kturn.data() + blk, idx(len));
       // The calibration states walk slowly (so the fixes can follow a changing gait).
       K = (K + s_k * n1).max(k_lo).min(k_hi);
       D += s_d * n2;
+      KT = (KT + s_t * n5).max(t_lo).min(t_hi);
       // Velocity = k * gait speed along AHRS heading + e (the particle's yaw offset) + d
       // (its gait heading offset); trapezoidal position.
       const BlockF ang = heading ? BlockF(D + CMapF(set_.yaw.data() + blk, idx(len))) : BlockF(D);
       const BlockF cd = ang.cos(), sd = ang.sin();
-      const BlockF sp = fspeed * K;
+      const BlockF sp = fspeed * K * (1.0f - KT * w_turn).max(f_lo);
       const BlockF vx = sp * (c * cd - s * sd);
       const BlockF vy = sp * (s * cd + c * sd);
       X += half_dt * (VX + vx) + ac * n3 - cs * n4;
@@ -407,9 +418,9 @@ ParticleFilter::GaitEstimate ParticleFilter::gait_estimate() const {
   GaitEstimate g;
   if (!initialized_ || !set_.gait) return g;
   const std::size_t n = set_.size();
-  std::vector<std::array<double, 5>> part(particle_chunks(n), std::array<double, 5>{});
+  std::vector<std::array<double, 6>> part(particle_chunks(n), std::array<double, 6>{});
   for_each_particle_chunk(n, [&](std::size_t c, std::size_t b, std::size_t e) {
-    std::array<double, 5> a{};
+    std::array<double, 6> a{};
     for (std::size_t i = b; i < e; ++i) {
       const double w = weight(i), k = set_.ks[i], d = set_.dpsi[i];
       a[0] += w;
@@ -417,19 +428,41 @@ ParticleFilter::GaitEstimate ParticleFilter::gait_estimate() const {
       a[2] += w * k * k;
       a[3] += w * d;
       a[4] += w * d * d;
+      a[5] += w * set_.kturn[i];
     }
     part[c] = a;
   });
-  std::array<double, 5> a{};
+  std::array<double, 6> a{};
   for (const auto& p : part)
-    for (int j = 0; j < 5; ++j) a[j] += p[j];
+    for (int j = 0; j < 6; ++j) a[j] += p[j];
   if (!(a[0] > 0.0)) return g;
   g.scale = a[1] / a[0];
   g.scale_sigma = std::sqrt(std::max(0.0, a[2] / a[0] - g.scale * g.scale));
   g.heading_offset_rad = a[3] / a[0];
   g.heading_offset_sigma = std::sqrt(std::max(0.0, a[4] / a[0] - g.heading_offset_rad * g.heading_offset_rad));
+  g.turn_slowdown_s_per_rad = a[5] / a[0];
   g.valid = true;
   return g;
+}
+
+void ParticleFilter::widen_gait(double min_scale_sigma, double min_heading_offset_sigma_rad) {
+  const GaitEstimate g = gait_estimate();
+  if (!g.valid) return;
+  // Scaling the deviations keeps each particle's rank and the weighted mean (a widened
+  // posterior, not a new prior): sigma' = max(sigma, floor).
+  const auto factor = [](double sigma, double floor) {
+    return std::isfinite(floor) && floor > sigma ? (sigma > 1e-6 ? floor / sigma : 1.0) : 1.0;
+  };
+  const float fk = static_cast<float>(factor(g.scale_sigma, min_scale_sigma));
+  const float fd = static_cast<float>(factor(g.heading_offset_sigma, min_heading_offset_sigma_rad));
+  if (fk == 1.0f && fd == 1.0f) return;
+  const float mk = static_cast<float>(g.scale), md = static_cast<float>(g.heading_offset_rad);
+  const float k_lo = static_cast<float>(options_.gait.min_scale), k_hi = static_cast<float>(options_.gait.max_scale);
+  for_each_particle_chunk(set_.size(), [&](std::size_t, std::size_t b, std::size_t e) {
+    MapF K(set_.ks.data() + b, idx(e - b)), D(set_.dpsi.data() + b, idx(e - b));
+    K = (mk + fk * (K - mk)).max(k_lo).min(k_hi);
+    D = md + fd * (D - md);
+  });
 }
 
 void ParticleFilter::predict(const MotionInput& u) {
@@ -715,6 +748,7 @@ void ParticleFilter::inject_random(std::uint64_t step) {
       if (set_.gait) {
         set_.ks[i] = 1.0f;  // the uncalibrated gait
         set_.dpsi[i] = 0.0f;
+        set_.kturn[i] = 0.0f;
       }
       if (set_.heading) set_.yaw[i] = 0.0f;  // the AHRS's yaw
       ++count[c];
@@ -932,10 +966,12 @@ void ParticleFilter::gather_block(const std::uint32_t* anc, std::size_t k0, std:
   if (set_.gait) {
     float* sk = scratch_.ks.data() + k0;
     float* sd = scratch_.dpsi.data() + k0;
+    float* st = scratch_.kturn.data() + k0;
     for (std::size_t k = 0; k < len; ++k) {
       const std::uint32_t i = anc[k];
       sk[k] = set_.ks[i];
       sd[k] = set_.dpsi[i];
+      st[k] = set_.kturn[i];
     }
   }
   if (set_.heading && !yaw_with) {
@@ -966,6 +1002,7 @@ void ParticleFilter::finish_resample(std::uint64_t step) {
   std::swap(set_.vy, scratch_.vy);
   std::swap(set_.ks, scratch_.ks);
   std::swap(set_.dpsi, scratch_.dpsi);
+  std::swap(set_.kturn, scratch_.kturn);
   std::swap(set_.yaw, scratch_.yaw);
   reset_weights_uniform();
   if (injection_probability() > 0.0) {

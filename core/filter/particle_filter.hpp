@@ -133,9 +133,14 @@ class ParticleFilter final : public PlanarFilter {
   // step-length scale and the heading offset; valid = false before the first gait input.
   struct GaitEstimate {
     double scale = 1.0, scale_sigma = 0.0, heading_offset_rad = 0.0, heading_offset_sigma = 0.0;
+    double turn_slowdown_s_per_rad = 0.0;  // the particles' own, beyond the gait model's
     bool valid = false;
   };
   GaitEstimate gait_estimate() const;
+  // Spreads the step-length scale and the heading offset about their weighted means to at
+  // least these standard deviations (no-op where wider, or without the gait states): what
+  // the fixes pinned down holds for the stretch they saw, not for the next one.
+  void widen_gait(double min_scale_sigma, double min_heading_offset_sigma_rad);
   // Yaw offset of the attitude filter (heading state): weighted mean and standard
   // deviation over the particles (rad); valid = false without the heading state.
   struct HeadingEstimate {

@@ -19,9 +19,10 @@ struct ParticleSet {
   FloatVector x, y;    // m, relative to the filter's origin
   FloatVector vx, vy;  // m/s, world frame
   // Gait calibration of the pedestrian motion model (core/filter/motion_model.hpp): step-
-  // length scale and heading offset (rad). Empty unless `gait` (other models do not pay
-  // for them in the resampling gather).
-  FloatVector ks, dpsi;
+  // length scale, heading offset (rad) and the walker's own slowdown in turns beyond the
+  // gait model's (s/rad). Empty unless `gait` (other models do not pay for them in the
+  // resampling gather).
+  FloatVector ks, dpsi, kturn;
   bool gait = false;
   // Yaw offset of the attitude filter (rad; core/filter/heading_noise.hpp): true device
   // yaw = AHRS yaw + yaw[i]. Empty unless `heading`.
@@ -35,6 +36,7 @@ struct ParticleSet {
     vy.resize(n);
     ks.resize(gait ? n : 0);
     dpsi.resize(gait ? n : 0);
+    kturn.resize(gait ? n : 0);
     yaw.resize(heading ? n : 0);
   }
 };

@@ -188,6 +188,13 @@ void FusionEngine::predict_to(TimeNs t) {
   if (t <= t_filter_) return;
   MotionInput u = motion_.input(t_filter_, t);
   u.heading_drift_s = heading_drift_s(t_filter_);
+  // Dead reckoning: once per outage the gait calibration's spread grows to the model's
+  // real error from one stretch to the next (GaitNoise::dead_reckoning_*).
+  if (pf_ && u.has_gait && gait_widened_at_fix_ != t_last_fix_ &&
+      ns_to_seconds(t - t_last_fix_) >= options_.pf.gait.dead_reckoning_after_s) {
+    pf_->widen_gait(options_.pf.gait.dead_reckoning_scale_sigma, options_.pf.gait.dead_reckoning_heading_offset_sigma);
+    gait_widened_at_fix_ = t_last_fix_;
+  }
   filter_->predict(u);
   if (heading_observer_) heading_observer_->predict(u.dt, u.heading_drift_s);
   t_filter_ = t;

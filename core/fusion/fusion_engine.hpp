@@ -134,6 +134,7 @@ class FusionEngine final : public FusionStage {
   bool emitted_ = false;
   int last_leds_ = 0;
   TimeNs t_last_fix_ = 0;
+  TimeNs gait_widened_at_fix_ = -1;  // t_last_fix_ of the outage whose gait spread was widened
   std::optional<TimeNs> t_last_vlc_;  // the last camera frame that corrected the position
   std::optional<TimeNs> t_initialized_;
   std::uint64_t reinits_seen_ = 0;      // stats_.reinitializations at the last pose

@@ -3,7 +3,9 @@
 // among the tuning seeds 1-10) stays within the accuracy the README claims.
 #include <catch2/catch.hpp>
 #include <string>
+#include <vector>
 
+#include "core/common/time.hpp"
 #include "core/eval/trajectory_io.hpp"
 #include "core/eval/trajectory_metrics.hpp"
 #include "test_support.hpp"
@@ -33,4 +35,41 @@ TEST_CASE("sim --walker random: the draw is recorded, IMU + VLC on it within 5 c
   const auto bad = run_luxloc("sim --out '" + (dir / "x").string() + "' --scenario static --walker random");
   CHECK(bad.exit_code != 0);
   CHECK_THAT(bad.output, Catch::Contains("no walker"));
+}
+
+// Issue 12, 15 s blackout on a drawn walker. Tuning seed 1 sweeps through its turns (0.9 m
+// corner rounding, slower in turns than the gait model's 0.2 s/rad): with one step-length
+// scale for straights and turns it ran 0.80 m off in the dark; the learnt turn slowdown
+// keeps it within 0.28 m, and the widened gait spread keeps the error within the 95 %
+// ellipse (100 %; before, the spread of the pinned-down k was too narrow on other seeds).
+TEST_CASE("sim --walker random, 15 s blackout: within 0.5 m in the dark, sigma covers it, 0.1 m 2 s after",
+          "[e2e][walker]") {
+  const auto dir = test::scratch_dir("walker_blackout");
+  const auto session = dir / "walk";
+  const auto sim = run_luxloc("sim --out '" + session.string() +
+                              "' --walker random --seed 1 --imu-grade consumer --blackout 40:15");
+  INFO(sim.output);
+  REQUIRE(sim.exit_code == 0);
+  const auto poses_csv = dir / "poses.csv";
+  const auto run = run_luxloc("run --playback '" + session.string() + "' --out '" + poses_csv.string() + "'");
+  INFO(run.output);
+  REQUIRE(run.exit_code == 0);
+  const auto truth = read_truth_csv((session / "groundtruth.csv").string());
+  const auto poses = read_pose_file(poses_csv.string());
+  const auto window = [&](double a, double b) {
+    std::vector<PoseRow> w;
+    for (const PoseRow& p : poses)
+      if (p.t >= seconds_to_ns(a) && p.t < seconds_to_ns(b)) w.push_back(p);
+    return evaluate(truth, w);
+  };
+  const EvalResult dark = window(40.0, 55.0), after = window(57.0, 58.0), all = evaluate(truth, poses);
+  WARN("blackout (seed 1): max " << dark.max_m << " m, " << 100.0 * dark.consistency
+                                 << " % within the 95 % ellipse, mean sigma " << dark.mean_sigma_m << " m; 2-3 s after: max "
+                                 << after.max_m << " m");
+  REQUIRE(dark.n > 500);
+  CHECK(dark.max_m <= 0.5);
+  CHECK(dark.consistency >= 0.85);
+  // Not inflated (issue 12: mean sigma <= 3x the RMSE, over the session; measured 1.6x).
+  CHECK(all.mean_sigma_m <= 3.0 * all.rmse_m);
+  CHECK(after.max_m <= 0.10);
 }
