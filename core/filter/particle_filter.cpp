@@ -202,21 +202,15 @@ void ParticleFilter::initialize_around(const std::vector<Eigen::Vector2d>& ancho
   start_prior();
 }
 
-KldOptions ParticleFilter::search_bounds() const {
-  KldOptions k = options_.search_kld;
-  k.min_particles = options_.particles;
-  k.max_particles = std::max(search_max_, options_.particles);
-  return k;
-}
-
 void ParticleFilter::start_search(std::size_t n) {
   searching_ = true;
-  search_max_ = n;
+  KldOptions bounds = options_.search_kld;
+  bounds.min_particles = options_.particles;
+  bounds.max_particles = std::max(n, options_.particles);
   // Particle i of initialize_around belongs to copy i mod h, and initialize_uniform's are
   // independent draws: every prefix is a fair sample of the prior.
-  const std::size_t m = kld_prefix_size(set_, search_bounds());
+  const std::size_t m = kld_prefix_size(set_, bounds);
   if (m < set_.size()) set_.resize(m);
-  search_size_ = set_.size();
 }
 
 void ParticleFilter::start_prior() {
@@ -786,7 +780,6 @@ void ParticleFilter::resample_copy() {
   // fixed size never did; so the size is fixed once the search has started.
   if (localising()) {
     constexpr double kConvergedSigmaM = 0.5;
-    m = search_size_;
     if (!search_hold_ && estimate().cov_p.trace() < 2.0 * kConvergedSigmaM * kConvergedSigmaM) {
       m = options_.particles;
       searching_ = false;

@@ -227,13 +227,11 @@ class ParticleFilter final : public PlanarFilter {
   ParticleSet scratch_;
   Eigen::Vector2d origin_ = Eigen::Vector2d::Zero();
   bool search_hold_ = false;
-  // A global search is on (localising()); the count it was asked to start with (the most
-  // particles) and the size KLD-sampling gave it (options_.search_kld), kept until it ends.
+  // A global search is on (localising()); its set keeps the size KLD-sampling gave it
+  // (options_.search_kld) until it ends.
   bool searching_ = false;
-  std::size_t search_max_ = 0, search_size_ = 0;
-  // After drawing a global set of search_max_: keep its KLD prefix, start the search.
+  // After drawing a global set of n: keep its KLD prefix, start the search.
   void start_search(std::size_t n);
-  KldOptions search_bounds() const;
   // Weights: when uniform_, all equal (log_w_ unused). Otherwise particle i's normalised
   // weight is exp(log_w_[i] - log_norm_) = lin_w_[i] exp(chunk max - log_norm_).
   bool uniform_ = true;

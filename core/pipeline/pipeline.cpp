@@ -296,10 +296,8 @@ PipelineReport Pipeline::run(FusionStage& stage) {
       PipelineProbe probe;
       probe.t = item.sample.t;
       probe.queue_wait_s = std::chrono::duration<double>(Clock::now() - item.arrival).count();
-      for (const auto& l : lanes) {
-        probe.source_depths.push_back(l->queue.size_approx());
-        probe.queued_frame_bytes += l->bytes.load(std::memory_order_relaxed);
-      }
+      for (const auto& l : lanes) probe.source_depths.push_back(l->queue.size_approx());
+      probe.queued_frame_bytes = queued_bytes;  // summed for the trim just above
       probe.pose_depth = poses.size_approx();
       probe.fused = fused_total;
       options_.probe(probe);
