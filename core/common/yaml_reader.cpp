@@ -11,6 +11,7 @@
 #include <mutex>
 #include <optional>
 #include <thread>
+#include <utility>
 #include <opencv2/core.hpp>
 
 #include "core/common/input_error.hpp"
@@ -108,11 +109,15 @@ std::optional<TextProblem> text_problem(const std::string& path) {
 // (~360 kB) is written, parsed and checked in < 0.2 s on the 2-core development machine (the
 // test below the reader's), so 5 s + 5 s per MB is > 25x that; only a parse that is not
 // going to finish reaches it.
+// The parsed FileStorage (and a parse error's exception) is handed over as the only
+// reference, taken out of the job under the lock: OpenCV's parse tree is then freed by the
+// reading thread, never by the parse thread, whose ParseJob may outlive the read. TSan
+// caught the old version, where a copy left in the job freed the tree on the parse thread.
 struct ParseJob {
   std::mutex m;
   std::condition_variable cv;
   bool done = false;
-  cv::FileStorage fs;
+  std::unique_ptr<cv::FileStorage> fs;
   std::exception_ptr error;
 };
 
@@ -123,16 +128,17 @@ cv::FileStorage parse_with_deadline(const std::string& path, const std::string& 
   const auto deadline = std::chrono::milliseconds(static_cast<long long>(1000.0 * (yaml_parse_timeout_s() * (1.0 + mb))));
   auto job = std::make_shared<ParseJob>();
   std::thread([job, path] {
-    cv::FileStorage fs;
+    auto fs = std::make_unique<cv::FileStorage>();
     std::exception_ptr error;
     try {
-      if (!fs.open(path, cv::FileStorage::READ | cv::FileStorage::FORMAT_YAML)) fs.release();
+      if (!fs->open(path, cv::FileStorage::READ | cv::FileStorage::FORMAT_YAML)) fs.reset();
     } catch (...) {
       error = std::current_exception();
+      fs.reset();
     }
     std::lock_guard lock(job->m);
-    job->fs = fs;
-    job->error = error;
+    job->fs = std::move(fs);
+    job->error = std::move(error);
     job->done = true;
     job->cv.notify_one();
   }).detach();
@@ -141,9 +147,10 @@ cv::FileStorage parse_with_deadline(const std::string& path, const std::string& 
     throw InputError(path, 0, "",
                      "the YAML parser did not finish within " + std::to_string(deadline.count() / 1000) +
                          " s (OpenCV's parser loops on some malformed indentation): not a valid " + what);
-  if (job->error) std::rethrow_exception(job->error);
-  if (!job->fs.isOpened()) throw InputError(path, 0, "", "cannot open " + what);
-  return job->fs;
+  const std::unique_ptr<cv::FileStorage> fs = std::move(job->fs);
+  if (const std::exception_ptr error = std::exchange(job->error, nullptr)) std::rethrow_exception(error);
+  if (!fs || !fs->isOpened()) throw InputError(path, 0, "", "cannot open " + what);
+  return *fs;
 }
 
 }  // namespace
