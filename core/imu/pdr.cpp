@@ -6,7 +6,7 @@
 namespace luxloc {
 
 PedestrianDeadReckoning::PedestrianDeadReckoning(const PdrOptions& options)
-    : options_(options), detector_(options.detector), length_(options.length) {}
+    : options_(options), detector_(options.detector), length_(options.length), gravity_(options.gravity_window) {}
 
 void PedestrianDeadReckoning::update(const ImuSample& s, const Eigen::Matrix3d& R_BtoW) {
   if (!s.acc_inB.allFinite() || !R_BtoW.allFinite()) return;
@@ -17,7 +17,13 @@ void PedestrianDeadReckoning::update(const ImuSample& s, const Eigen::Matrix3d& 
                                     options_.detector.smoothing_s);
   while (yaw_history_.size() > 1 && s.t - yaw_history_.front().first > keep) yaw_history_.pop_front();
 
-  const double a_up = (R_BtoW * s.acc_inB).z() - options_.gravity;
+  // No gyroscope: the attitude filter's vertical goes stale on a device that re-orients
+  // while it walks (a bag, a pocket); the accelerometer's mean over a stride does not.
+  gravity_.add(s.t, s.acc_inB);
+  if (!last_gyro_t_ || !(s.gyro_inB.array() == 0.0).all()) last_gyro_t_ = s.t;
+  gyro_absent_ = s.t - *last_gyro_t_ >= seconds_to_ns(options_.gyro_absent_after_s);
+  const double a_up = gyro_absent_ ? s.acc_inB.dot(gravity_.up_inB()) - options_.gravity
+                                   : (R_BtoW * s.acc_inB).z() - options_.gravity;
   if (const std::optional<DetectedStep> d = detector_.update(s.t, a_up)) add_step(*d);
 }
 

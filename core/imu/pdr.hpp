@@ -15,6 +15,7 @@
 #include <optional>
 
 #include "core/common/samples.hpp"
+#include "core/imu/gravity_window.hpp"
 #include "core/imu/step_detector.hpp"
 #include "core/imu/step_length.hpp"
 
@@ -26,6 +27,11 @@ struct PdrOptions {
   double heading_offset_rad = 0.0;   // walking direction minus device yaw
   double heading_sigma_rad = 0.035;  // ~2 deg per step: sway, attitude noise
   double gravity = 9.80665;
+  // A log without a gyroscope (gx, gy, gz exactly 0 on every sample for this long: a real
+  // gyroscope's noise never reads 0, 0, 0 twice in a row, let alone while the accelerometer
+  // shows steps) takes the vertical from `gravity_window` instead of the attitude filter.
+  double gyro_absent_after_s = 1.0;
+  GravityWindowOptions gravity_window;
 };
 
 struct Step {
@@ -56,6 +62,8 @@ class PedestrianDeadReckoning {
   std::uint64_t step_count() const { return count_; }
   double distance_m() const { return distance_m_; }
   const PdrOptions& options() const { return options_; }
+  // True while the gyroscope reads exactly zero (see PdrOptions::gyro_absent_after_s).
+  bool gyro_absent() const { return gyro_absent_; }
 
  private:
   double mean_heading(TimeNs from, TimeNs to) const;
@@ -66,6 +74,9 @@ class PedestrianDeadReckoning {
   StepLengthModel length_;
   std::deque<std::pair<TimeNs, double>> yaw_history_;  // last few seconds of device yaw
   std::deque<Step> pending_;
+  GravityWindow gravity_;
+  std::optional<TimeNs> last_gyro_t_;  // last sample with a non-zero gyro (or the first sample)
+  bool gyro_absent_ = false;
   Eigen::Vector2d p_inW_ = Eigen::Vector2d::Zero();
   std::uint64_t count_ = 0;
   double distance_m_ = 0.0;
