@@ -215,6 +215,7 @@ void ParticleFilter::start_search(std::size_t n) {
 
 void ParticleFilter::start_prior() {
   pending_yaw_var_ = 0.0;
+  pending_yaw_decay_ = 1.0;
   reset_weights_uniform();
   averages_.reset();  // a new prior: the old likelihood level says nothing about it
   consecutive_rejections_ = 0;
@@ -264,14 +265,26 @@ void ParticleFilter::walk_heading(const MotionInput& u) {
   const HeadingNoise& h = options_.heading;
   const double t = std::clamp(std::isfinite(u.heading_drift_s) ? u.heading_drift_s : h.max_drift_s, 0.0, h.max_drift_s);
   const double rate = h.walk_rad * h.walk_rad + 2.0 * h.bias_sigma_rps * h.bias_sigma_rps * t;
-  if (rate > 0.0 && std::isfinite(rate)) pending_yaw_var_ += rate * u.dt;
+  if (!(rate > 0.0) || !std::isfinite(rate)) return;
+  if (u.heading_bounded && h.bounded_rad > 0.0) {
+    // Ornstein-Uhlenbeck over dt, composed with what is pending: e -> a e + N(0, q),
+    // a = exp(-dt / tau), q = bound^2 (1 - a^2), tau = 2 bound^2 / rate.
+    const double b2 = h.bounded_rad * h.bounded_rad;
+    const double a = std::exp(-u.dt * rate / (2.0 * b2));
+    pending_yaw_decay_ *= a;
+    pending_yaw_var_ = a * a * pending_yaw_var_ + b2 * (1.0 - a * a);
+  } else {
+    pending_yaw_var_ += rate * u.dt;
+  }
 }
 
 void ParticleFilter::flush_heading_walk() {
   if (!set_.heading || !(pending_yaw_var_ > 0.0)) return;
   // Capped at 1 rad^2: beyond that the heading is unknown anyway.
   const float s_e = static_cast<float>(std::sqrt(std::min(pending_yaw_var_, 1.0)));
+  const float decay = static_cast<float>(pending_yaw_decay_);
   pending_yaw_var_ = 0.0;
+  pending_yaw_decay_ = 1.0;
   const std::uint64_t step = ++step_;
   for_each_particle_chunk(set_.size(), [&](std::size_t c, std::size_t b, std::size_t e) {
     LaneRng rng(options_.seed, step, 0x4EAD1000ull + c);
@@ -279,7 +292,9 @@ void ParticleFilter::flush_heading_walk() {
     for (std::size_t blk = b; blk < e; blk += kBlock) {
       const std::size_t len = std::min(kBlock, e - blk);
       rng.fill_normal(noise, LaneRng::round_up(len, 16));
-      MapF(set_.yaw.data() + blk, idx(len)) += s_e * CMapU(noise, idx(len));
+      MapF E(set_.yaw.data() + blk, idx(len));
+      if (decay != 1.0f) E *= decay;
+      E += s_e * CMapU(noise, idx(len));
     }
   });
 }

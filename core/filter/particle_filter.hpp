@@ -221,6 +221,7 @@ class ParticleFilter final : public PlanarFilter {
   void walk_heading(const MotionInput& u);
   void flush_heading_walk();
   double pending_yaw_var_ = 0.0;
+  double pending_yaw_decay_ = 1.0;  // e -> decay e + sqrt(var) n (HeadingNoise::bounded_rad)
 
   ParticleFilterOptions options_;
   ParticleSet set_;

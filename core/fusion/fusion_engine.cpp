@@ -163,9 +163,11 @@ double FusionEngine::heading_drift_s(TimeNs t) const {
   double s = heading_feedback_.since_fix_s(t);
   if (!std::isfinite(s) && t_initialized_) s = std::max(0.0, ns_to_seconds(t - *t_initialized_));
   // A magnetometer in use bounds the AHRS's yaw error (FusionOptions::mag_bounded_drift_s).
-  if (ahrs_.since_mag_correction_s() < 1.0) s = std::min(s, options_.mag_bounded_drift_s);
+  if (heading_bounded()) s = std::min(s, options_.mag_bounded_drift_s);
   return s;
 }
+
+bool FusionEngine::heading_bounded() const { return ahrs_.since_mag_correction_s() < 1.0; }
 
 Eigen::Matrix3d FusionEngine::fused_R_BtoW() {
   const HeadingState h = heading_state();
@@ -188,6 +190,7 @@ void FusionEngine::predict_to(TimeNs t) {
   if (t <= t_filter_) return;
   MotionInput u = motion_.input(t_filter_, t);
   u.heading_drift_s = heading_drift_s(t_filter_);
+  u.heading_bounded = heading_bounded();
   // Dead reckoning: once per outage the gait calibration's spread grows to the model's
   // real error from one stretch to the next (GaitNoise::dead_reckoning_*).
   if (pf_ && u.has_gait && gait_widened_at_fix_ != t_last_fix_ &&
@@ -196,7 +199,7 @@ void FusionEngine::predict_to(TimeNs t) {
     gait_widened_at_fix_ = t_last_fix_;
   }
   filter_->predict(u);
-  if (heading_observer_) heading_observer_->predict(u.dt, u.heading_drift_s);
+  if (heading_observer_) heading_observer_->predict(u.dt, u.heading_drift_s, u.heading_bounded);
   t_filter_ = t;
 }
 

@@ -100,6 +100,8 @@ class FusionEngine final : public FusionStage {
   void feed_back_heading(TimeNs t, const HeadingState& h);
   // Seconds since the heading was last fixed (drift clock of the yaw offset).
   double heading_drift_s(TimeNs t) const;
+  // The AHRS's magnetometer corrects its yaw (within the last second): its error is bounded.
+  bool heading_bounded() const;
   // R_BtoW with the fused yaw: Rz(offset) R_ahrs.
   Eigen::Matrix3d fused_R_BtoW();
   // False for an absolute sample (frame, fix) that options_.absolute_for_s excludes.
