@@ -673,6 +673,8 @@ void print_report(const RunOutcome& r, std::ostream& log) {
     if (u.online_used + u.online_gated_long + u.online_gated_short) {
       log << "  uwb online: " << u.online_used << " ranges used, " << u.online_gated_long << " set aside as NLOS (long), "
           << u.online_gated_short << " as short";
+      if (u.online_bias_reopened)
+        log << " (" << u.online_bias_reopened << " runs of short ranges reopened an anchor's bias)";
       if (std::isfinite(u.final_height_m))
         log << "; height " << std::setprecision(3) << u.final_height_m << " m +/- " << u.final_height_sigma_m;
       if (!u.learnt_bias_m.empty()) {

@@ -27,7 +27,7 @@ void HeightBiasFilter::add_anchor(int id, bool calibrated) {
   P_.col(n).setZero();
   const double s0 = calibrated ? options_.calibrated_bias_sigma0_m : options_.bias_sigma0_m;
   P_(n, n) = s0 * s0;
-  anchors_[id] = AnchorState{n, 0.0};
+  anchors_[id] = AnchorState{n, 0.0, s0, 0};
 }
 
 void HeightBiasFilter::start(TimeNs t, const Eigen::Vector2d& p_xy, const Eigen::Matrix2d& cov_xy) {
@@ -77,17 +77,29 @@ HeightBiasFilter::Outcome HeightBiasFilter::update(int id, const Eigen::Vector3d
   if (it != anchors_.end()) H(it->second.k) = 1.0;
   const double b = it != anchors_.end() ? x_(it->second.k) : 0.0;
   const double nu = range_m - (dn + b);
-  const Eigen::VectorXd PHt = P_ * H.transpose();
+  Eigen::VectorXd PHt = P_ * H.transpose();
   const double R = range_sigma_m * range_sigma_m;
-  const double S = H.dot(PHt) + R;
+  double S = H.dot(PHt) + R;
   Outcome out = Outcome::used;
   if (nu > options_.gate_sigma * std::sqrt(S))
     out = Outcome::gated_long;
   else if (nu < -options_.gate_sigma * std::sqrt(S))
     out = Outcome::gated_short;
   if (it != anchors_.end()) {
+    AnchorState& a = it->second;
     const double w = options_.nlos_memory;
-    it->second.long_share = (1.0 - w) * it->second.long_share + w * (out == Outcome::gated_long ? 1.0 : 0.0);
+    a.long_share = (1.0 - w) * a.long_share + w * (out == Outcome::gated_long ? 1.0 : 0.0);
+    a.short_run = out == Outcome::gated_short ? a.short_run + 1 : 0;
+    if (a.short_run >= options_.short_run_reopen) {
+      // HeightBiasOptions::short_run_reopen: the bias is wrong; reopen it (a larger diagonal
+      // keeps P positive semi-definite) and take this range.
+      P_(a.k, a.k) = std::max(P_(a.k, a.k), a.sigma0_m * a.sigma0_m);
+      PHt = P_ * H.transpose();
+      S = H.dot(PHt) + R;
+      a.short_run = 0;
+      ++stats_.bias_reopened;
+      out = Outcome::used;
+    }
   }
   if (out == Outcome::gated_long) {
     ++stats_.gated_long;

@@ -43,6 +43,7 @@ void UwbFrontend::summarize_online() {
   stats_.online_used = h.used;
   stats_.online_gated_long = h.gated_long;
   stats_.online_gated_short = h.gated_short;
+  stats_.online_bias_reopened = h.bias_reopened;
   if (height_bias_.options().estimate_height) {
     stats_.final_height_m = height_bias_.height_m();
     stats_.final_height_sigma_m = height_bias_.height_sigma_m();

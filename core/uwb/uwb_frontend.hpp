@@ -37,6 +37,7 @@ struct UwbStats {
   // The online height / bias filter (issue 16 parts 1, 3): ranges it used or set aside, and
   // its final states (NaN height: not estimated; biases of the anchors it learnt).
   std::uint64_t online_used = 0, online_gated_long = 0, online_gated_short = 0;
+  std::uint64_t online_bias_reopened = 0;  // HeightBiasOptions::short_run_reopen
   double final_height_m = std::numeric_limits<double>::quiet_NaN();
   double final_height_sigma_m = std::numeric_limits<double>::quiet_NaN();
   std::vector<std::pair<int, double>> learnt_bias_m;

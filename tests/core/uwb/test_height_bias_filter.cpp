@@ -99,3 +99,35 @@ TEST_CASE("height / bias filter: off, it keeps the nominal height and zero biase
   CHECK(f.height_sigma_m() == 0.0);
   CHECK(f.bias_m(1) == 0.0);
 }
+
+TEST_CASE("height / bias filter: a run of short ranges reopens a wrong bias instead of gating it for good",
+          "[uwb][height]") {
+  // Anchor 3's bias is learnt tight at 0 over 15 s, then its range shortens by 0.5 m (the
+  // filter's belief is now confidently wrong, as sim robot seed 8's +0.34 m against -0.38 m
+  // was): every later range of it is ~10 sigma short. A short range is no NLOS; gating them
+  // all kept the wrong bias for the whole run. The other anchors keep their biases.
+  const std::vector<Eigen::Vector3d> a = arena();
+  const double bias[8] = {-0.45, -0.30, 0.0, -0.12, -0.38, -0.02, -0.25, 0.05};
+  HeightBiasOptions o;
+  o.estimate_bias = true;
+  HeightBiasFilter f(o, 1.1);
+  for (int i = 0; i < 8; ++i) f.add_anchor(i + 1, false);
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> noise(0.0, 0.05);
+  for (int k = 0; k < 400 * 8; ++k) {
+    const double t = 0.0125 * k;
+    const int i = k % 8;
+    const Eigen::Vector3d p(4.0 + 2.0 * std::cos(t / 2.0), 3.0 + 2.0 * std::sin(t / 2.0), 1.1);
+    const double b = i == 2 && t >= 15.0 ? -0.5 : bias[i];
+    const double r = (p - a[static_cast<std::size_t>(i)]).norm() + b + noise(rng);
+    if (k == 0) f.start(0, p.head<2>(), Eigen::Matrix2d::Identity() * 0.1 * 0.1);
+    f.predict(seconds_to_ns(t));
+    f.update(i + 1, a[static_cast<std::size_t>(i)], r, 0.05);
+    if (k == 8 * 150 - 1) REQUIRE(f.bias_sigma_m(3) < 0.05);  // tight before the change
+  }
+  CHECK(f.stats().bias_reopened >= 1);
+  CHECK(f.stats().bias_reopened <= 3);            // reopened once or twice, then it holds
+  CHECK(std::abs(f.bias_m(3) - (-0.50)) < 0.05);  // learnt, not stuck at 0
+  CHECK(f.stats().gated_short < 20);              // not 250 ranges set aside
+  for (int i : {0, 1, 3, 4, 5, 6, 7}) CHECK(std::abs(f.bias_m(i + 1) - bias[i]) < 0.05);
+}
