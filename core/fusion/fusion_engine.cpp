@@ -513,6 +513,30 @@ void FusionEngine::apply_position(const PositionMeasurement& m) {
   if (r.reinitialized && was_initialized) ++stats_.reinitializations;
 }
 
+std::optional<PositionMeasurement> FusionEngine::uwb_start_agreed(const PositionMeasurement& fix) {
+  const UwbOptions& o = uwb_->options();
+  if (!fix.z.allFinite() || !fix.R.allFinite() || !(fix.R.determinant() > 0.0)) return std::nullopt;
+  const auto need = static_cast<std::size_t>(std::max(1, o.start_agreeing_fixes));
+  uwb_start_fixes_.push_back(fix);
+  while (uwb_start_fixes_.size() > need) uwb_start_fixes_.pop_front();
+  if (uwb_start_fixes_.size() < need) return std::nullopt;
+  Eigen::Matrix2d info = Eigen::Matrix2d::Zero();
+  Eigen::Vector2d info_z = Eigen::Vector2d::Zero();
+  for (const PositionMeasurement& m : uwb_start_fixes_) {
+    const double move = o.start_speed_mps * std::abs(ns_to_seconds(fix.t - m.t));
+    const Eigen::Matrix2d S = fix.R + m.R + Eigen::Matrix2d::Identity() * move * move;
+    const Eigen::Vector2d d = fix.z - m.z;
+    if (!(d.dot(S.ldlt().solve(d)) <= o.start_gate_chi2)) return std::nullopt;
+    const Eigen::Matrix2d Ri = m.R.inverse();
+    info += Ri;
+    info_z += Ri * m.z;
+  }
+  PositionMeasurement start = fix;
+  start.z = info.ldlt().solve(info_z);
+  uwb_start_fixes_.clear();
+  return start;
+}
+
 void FusionEngine::on_uwb(const UwbSample& s, std::vector<PoseEstimate>& out) {
   const std::optional<UwbRangeLikelihood> lik = uwb_->likelihood(s);
   if (!lik) return;
@@ -543,6 +567,14 @@ void FusionEngine::on_uwb(const UwbSample& s, std::vector<PoseEstimate>& out) {
     // Loose coupling (seed B.3 fix, Gaussian weighting as in seed A, S302), the EKF, and
     // the first fix of a tight run.
     if (filter_->initialized()) uwb_->observe(s, filter_->estimate());
+    if (fix && !filter_->initialized()) {
+      fix = uwb_start_agreed(*fix);  // UwbOptions::start_agreeing_fixes
+      if (!fix) {
+        ++st.no_fix;
+        ++st.start_held;
+        return;
+      }
+    }
     if (fix) {
       const std::uint64_t gated = stats_.fixes_gated;
       apply_position(*fix);

@@ -143,6 +143,11 @@ class FusionEngine final : public FusionStage {
   std::optional<TimeNs> t_last_reinit_;  // time of the first pose after the last restart  // sample time at which the filter first initialised
   std::unique_ptr<UwbFrontend> uwb_;
   int uwb_disagreements_ = 0;
+  // The latest UWB fixes before the filter started (UwbOptions::start_agreeing_fixes).
+  std::deque<PositionMeasurement> uwb_start_fixes_;
+  // The fix to start at once start_agreeing_fixes agree: their information-weighted mean
+  // with the newest fix's covariance (not shrunk: the fixes share the anchors' biases).
+  std::optional<PositionMeasurement> uwb_start_agreed(const PositionMeasurement& fix);
   VoOptions vo_options_;
   std::unique_ptr<FloorOdometry> vo_;  // --vo with a camera
   VoStats vo_stats_;

@@ -32,6 +32,7 @@ struct UwbStats {
   std::uint64_t fixes_used = 0;    // position fixes the filter took (loose, the EKF, the first fix, --uwb-alone)
   std::uint64_t fixes_gated = 0;   // position fixes the filter's gate refused
   std::uint64_t no_fix = 0;        // not weighed alone and no fix completed with it (yet)
+  std::uint64_t start_held = 0;    // of no_fix: fixes held before the start (UwbOptions::start_agreeing_fixes)
   std::uint64_t underflow = 0;     // every particle's weight underflowed and no fix to recover at
   std::uint64_t nlos_set_aside = 0;  // ranges of an anchor flagged NLOS, not weighed (counted apart, see accounted())
   // The online height / bias filter (issue 16 parts 1, 3): ranges it used or set aside, and

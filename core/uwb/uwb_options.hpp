@@ -22,6 +22,17 @@ struct UwbOptions {
   // disagreement; this many in a row re-initialise the filter at the next fix (lost track).
   double gate_sigma = 6.0;
   int max_consecutive_disagreements = 15;
+  // The filter starts at a UWB fix only once this many consecutive fixes agree (each within
+  // start_gate_chi2 of the newest, their covariances plus start_speed_mps of motion between
+  // them): a single fix may be NLOS (5 % of the uwb scenario's ranges read 0.3-2.5 m long)
+  // or a degenerate multilateration, and a filter started there took 4-6 s to leave it
+  // (sim uwb tuning seed 47: the first range 2.2 m long, ATE 0.52 m, max 2.9 m). 3: one bad
+  // fix among them breaks agreement, three good ones restore it (0.2 s at 10 Hz). 9.21: the
+  // 99 % chi-square bound of 2 degrees of freedom. 2 m/s: faster than the walkers and
+  // robots the filter is made for (reasoning, not fitted).
+  int start_agreeing_fixes = 3;
+  double start_gate_chi2 = 9.21;
+  double start_speed_mps = 2.0;
   // UWB alone: output every UWB position fix (seed B.3 / multilateration) as the pose,
   // no filter (the "UWB alone" baseline of the figures).
   bool fixes_only = false;
