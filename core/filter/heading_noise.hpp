@@ -35,7 +35,7 @@ struct HeadingNoise {
   // (UWB ranges and a strapdown or constant-velocity model say little of the yaw): the
   // fused yaw of the robot and drone scenarios ran 12-17 deg off while the AHRS alone was
   // within 3-10 deg (sim seed 1 of each, tuning seeds). 3 deg: the upper end of that range.
-  // Not for a walker (MotionInput::heading_bounded is false with a gait): the camera's
+  // Not for a walker (MotionInput::heading_bounded is false once a gait is confirmed): the camera's
   // offset is what its dead reckoning walks on through a blackout, and pulling it to 0 there
   // cost 0.30 -> 0.40 m (mean blackout maximum, tuning seeds 41-50).
   double bounded_rad = 0.0524;

@@ -49,7 +49,7 @@ struct MotionInput {
   // interval): the yaw-offset state's drift grows with it (HeadingNoise::bias_sigma_rps).
   double heading_drift_s = 0.0;
   // True while an absolute yaw reference bounds the AHRS's yaw error (its magnetometer
-  // corrects it) and nothing walks on the offset (no gait: FusionEngine::predict_to): the
+  // corrects it) and nothing walks on the offset (not a walker: FusionEngine::predict_to): the
   // yaw offset then reverts to 0 instead of walking without bound (HeadingNoise::bounded_rad).
   bool heading_bounded = false;
 };

@@ -190,11 +190,14 @@ void FusionEngine::predict_to(TimeNs t) {
   if (t <= t_filter_) return;
   MotionInput u = motion_.input(t_filter_, t);
   u.heading_drift_s = heading_drift_s(t_filter_);
-  // Mean reversion of the yaw offset (HeadingNoise::bounded_rad) only without a gait: a
-  // walker's offset is what the camera measured, and its walking direction (AHRS yaw + e + d)
-  // dead-reckons through a blackout on it; pulled towards 0 there, the tuning seeds 41-50
-  // ended their 15 s blackouts 0.30 -> 0.40 m off on average (seed 46: 0.33 -> 0.79 m).
-  u.heading_bounded = heading_bounded() && !u.has_gait;
+  // Mean reversion of the yaw offset (HeadingNoise::bounded_rad) only for a platform that
+  // does not walk: a walker's offset is what the camera measured, and its walking direction
+  // (AHRS yaw + e + d) dead-reckons through a blackout on it; pulled towards 0 there, the
+  // tuning seeds 41-50 ended their 15 s blackouts 0.30 -> 0.40 m off on average (seed 46:
+  // 0.33 -> 0.79 m). Per platform, not per moment: reverting while a walker stood still
+  // cost the hold-out heading table 0.1-0.15 deg of yaw p95.
+  if (motion_.model() == MotionModel::pdr && motion_.gait_confirmed()) walker_ = true;
+  u.heading_bounded = heading_bounded() && !walker_;
   // Dead reckoning: once per outage the gait calibration's spread grows to the model's
   // real error from one stretch to the next (GaitNoise::dead_reckoning_*).
   if (pf_ && u.has_gait && gait_widened_at_fix_ != t_last_fix_ &&
