@@ -659,7 +659,9 @@ void print_report(const RunOutcome& r, std::ostream& log) {
     log << "  uwb: " << u.samples << " measurements = " << u.weighed + u.fixes_used << " used (" << u.weighed
         << " ranges weighed by the filter, " << u.fixes_used << " as position fixes) + " << u.fixes_gated
         << " fixes gated + " << u.reinitializations << " restarted the filter + " << u.no_fix
-        << " waiting for a fix" << (u.start_held ? " (" + std::to_string(u.start_held) + " fixes held until consecutive fixes agreed on a start)" : std::string())
+        << " waiting for a fix"
+        << (u.start_held ? " (" + std::to_string(u.start_held) + " fixes held until consecutive fixes agreed on a start)"
+                         : std::string())
         << " + " << u.underflow << " refused (all weights underflowed) + "
         << u.nlos_set_aside << " set aside (anchor in NLOS) + " << u.unknown_anchor + u.rejected << " rejected ("
         << u.unknown_anchor
