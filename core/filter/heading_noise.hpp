@@ -7,6 +7,9 @@
 // misalignment), strapdown rotates the world acceleration by e. Whenever e is well
 // determined the fusion moves it into the AHRS (its yaw and its gyro z bias, an error-state
 // feedback: core/fusion/heading_feedback.hpp), so e stays small between observations.
+#include <algorithm>
+#include <cmath>
+
 namespace luxloc {
 
 struct HeadingNoise {
@@ -44,6 +47,27 @@ struct HeadingNoise {
   // averaging them does not shrink the error as 1/sqrt(n). 0.005 rad (0.3 deg): the
   // camera yaw's own floor (VlcFrontend::yaw_offset); sim seeds 1-10, dense scenario.
   double min_sigma_rad = 0.005;
+
+  // The process model of e over dt, drift_s after the heading was last fixed (NaN: long
+  // ago), for both filters (the particles' yaw offsets and the EKF path's HeadingObserver):
+  // adds the walk's variance to var and returns the factor e's mean decays by (1 without
+  // mean reversion). White walk plus the drift of an unknown residual gyro bias, whose
+  // variance (sigma_b t)^2 grows at 2 sigma_b^2 t; while `bounded`, Ornstein-Uhlenbeck with
+  // stationary sigma bounded_rad at the same short-term rate: e -> a e + N(0, q),
+  // a = exp(-dt / tau), q = bound^2 (1 - a^2), tau = 2 bound^2 / rate.
+  double propagate(double& var, double dt, double drift_s, bool bounded) const {
+    const double t = std::clamp(std::isfinite(drift_s) ? drift_s : max_drift_s, 0.0, max_drift_s);
+    const double rate = walk_rad * walk_rad + 2.0 * bias_sigma_rps * bias_sigma_rps * t;
+    if (!(rate > 0.0) || !std::isfinite(rate)) return 1.0;
+    if (bounded && bounded_rad > 0.0) {
+      const double b2 = bounded_rad * bounded_rad;
+      const double a = std::exp(-dt * rate / (2.0 * b2));
+      var = a * a * var + b2 * (1.0 - a * a);
+      return a;
+    }
+    var += rate * dt;
+    return 1.0;
+  }
 };
 
 }  // namespace luxloc

@@ -260,22 +260,8 @@ void ParticleFilter::draw_heading_prior(std::uint64_t step, double mean, double 
 
 void ParticleFilter::walk_heading(const MotionInput& u) {
   if (!set_.heading) return;
-  // HeadingNoise: white walk plus the drift of an unknown residual gyro bias, whose
-  // variance (sigma_b t)^2 grows at 2 sigma_b^2 t since the heading was last fixed.
-  const HeadingNoise& h = options_.heading;
-  const double t = std::clamp(std::isfinite(u.heading_drift_s) ? u.heading_drift_s : h.max_drift_s, 0.0, h.max_drift_s);
-  const double rate = h.walk_rad * h.walk_rad + 2.0 * h.bias_sigma_rps * h.bias_sigma_rps * t;
-  if (!(rate > 0.0) || !std::isfinite(rate)) return;
-  if (u.heading_bounded && h.bounded_rad > 0.0) {
-    // Ornstein-Uhlenbeck over dt, composed with what is pending: e -> a e + N(0, q),
-    // a = exp(-dt / tau), q = bound^2 (1 - a^2), tau = 2 bound^2 / rate.
-    const double b2 = h.bounded_rad * h.bounded_rad;
-    const double a = std::exp(-u.dt * rate / (2.0 * b2));
-    pending_yaw_decay_ *= a;
-    pending_yaw_var_ = a * a * pending_yaw_var_ + b2 * (1.0 - a * a);
-  } else {
-    pending_yaw_var_ += rate * u.dt;
-  }
+  // HeadingNoise::propagate, composed with what is pending since the last flush.
+  pending_yaw_decay_ *= options_.heading.propagate(pending_yaw_var_, u.dt, u.heading_drift_s, u.heading_bounded);
 }
 
 void ParticleFilter::flush_heading_walk() {

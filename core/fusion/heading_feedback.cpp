@@ -32,17 +32,7 @@ double HeadingFeedback::since_fix_s(TimeNs t) const {
 
 void HeadingObserver::predict(double dt, double drift_s, bool bounded) {
   if (!(dt > 0.0) || !std::isfinite(dt)) return;
-  const double t = std::clamp(std::isfinite(drift_s) ? drift_s : noise_.max_drift_s, 0.0, noise_.max_drift_s);
-  const double rate = noise_.walk_rad * noise_.walk_rad + 2.0 * noise_.bias_sigma_rps * noise_.bias_sigma_rps * t;
-  if (bounded && noise_.bounded_rad > 0.0 && rate > 0.0) {
-    // Mean-reverting while the magnetometer bounds the AHRS's yaw (HeadingNoise::bounded_rad).
-    const double b2 = noise_.bounded_rad * noise_.bounded_rad;
-    const double a = std::exp(-dt * rate / (2.0 * b2));
-    offset_ *= a;
-    var_ = a * a * var_ + b2 * (1.0 - a * a);
-  } else {
-    var_ += rate * dt;
-  }
+  offset_ *= noise_.propagate(var_, dt, drift_s, bounded);
   // Never more uncertain than "anywhere": keeps the gain meaningful after a long outage.
   var_ = std::min(var_, 1.0);
 }
