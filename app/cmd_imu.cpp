@@ -128,14 +128,6 @@ int run_imu(const ImuArgs& a) {
   PdrOptions po;
   po.length.kind = parse_step_length_kind(a.step_model);
   PedestrianDeadReckoning pdr(po);
-  // Seconds of the log without a gyroscope (reported at the end).
-  double gyro_absent_s = 0.0;
-  std::optional<TimeNs> t_pdr_prev;
-  auto dt_pdr = [&](TimeNs t) {
-    const double dt = t_pdr_prev ? ns_to_seconds(t - *t_pdr_prev) : 0.0;
-    t_pdr_prev = t;
-    return dt;
-  };
   const bool want_steps = !a.steps.empty();
 
   TextFile out(a.out);
@@ -197,7 +189,6 @@ int run_imu(const ImuArgs& a) {
     }
     if (want_steps || !truth.t.empty()) {
       pdr.update(s, ahrs.R_BtoW());
-      gyro_absent_s += pdr.gyro_absent() ? dt_pdr(s.t) : 0.0;
       while (const std::optional<Step> st = pdr.pop_step()) {
         step_times.push_back(ns_to_seconds(st->t));
         if (steps_out) {
@@ -243,7 +234,7 @@ int run_imu(const ImuArgs& a) {
   for (const auto& [reason, e] : source->drops().snapshot())
     std::fprintf(info, "imu: dropped %llu (%s), first: %s\n", static_cast<unsigned long long>(e.count),
                  reason.c_str(), e.first_message.c_str());
-  if (gyro_absent_s > 0.0)
+  if (const double gyro_absent_s = pdr.gyro_absent_s(); gyro_absent_s > 0.0)
     std::fprintf(info,
                  "imu: no gyroscope for %.1f s (gx, gy, gz exactly 0): steps took the vertical from the "
                  "accelerometer's %.0f s mean; the attitude's yaw is not observed there\n",

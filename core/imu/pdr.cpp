@@ -11,6 +11,7 @@ PedestrianDeadReckoning::PedestrianDeadReckoning(const PdrOptions& options)
 void PedestrianDeadReckoning::update(const ImuSample& s, const Eigen::Matrix3d& R_BtoW) {
   if (!s.acc_inB.allFinite() || !R_BtoW.allFinite()) return;
   if (!yaw_history_.empty() && s.t <= yaw_history_.back().first) return;
+  const std::optional<TimeNs> t_prev = yaw_history_.empty() ? std::nullopt : std::optional(yaw_history_.back().first);
   yaw_history_.emplace_back(s.t, std::atan2(R_BtoW(1, 0), R_BtoW(0, 0)));
   // Keep enough yaw history to cover the longest step plus the detection delay.
   const TimeNs keep = seconds_to_ns(options_.detector.max_interval_s + 2.0 * options_.detector.min_interval_s +
@@ -22,6 +23,7 @@ void PedestrianDeadReckoning::update(const ImuSample& s, const Eigen::Matrix3d& 
   gravity_.add(s.t, s.acc_inB);
   if (!last_gyro_t_ || !(s.gyro_inB.array() == 0.0).all()) last_gyro_t_ = s.t;
   gyro_absent_ = s.t - *last_gyro_t_ >= seconds_to_ns(options_.gyro_absent_after_s);
+  if (gyro_absent_ && t_prev) gyro_absent_ns_ += s.t - *t_prev;
   const double a_up = gyro_absent_ ? s.acc_inB.dot(gravity_.up_inB()) - options_.gravity
                                    : (R_BtoW * s.acc_inB).z() - options_.gravity;
   if (const std::optional<DetectedStep> d = detector_.update(s.t, a_up)) add_step(*d);

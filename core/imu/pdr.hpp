@@ -64,6 +64,8 @@ class PedestrianDeadReckoning {
   const PdrOptions& options() const { return options_; }
   // True while the gyroscope reads exactly zero (see PdrOptions::gyro_absent_after_s).
   bool gyro_absent() const { return gyro_absent_; }
+  // Seconds of the stream spent with gyro_absent() (sample intervals ending in such a sample).
+  double gyro_absent_s() const { return ns_to_seconds(gyro_absent_ns_); }
 
  private:
   double mean_heading(TimeNs from, TimeNs to) const;
@@ -77,6 +79,7 @@ class PedestrianDeadReckoning {
   GravityWindow gravity_;
   std::optional<TimeNs> last_gyro_t_;  // last sample with a non-zero gyro (or the first sample)
   bool gyro_absent_ = false;
+  TimeNs gyro_absent_ns_ = 0;
   Eigen::Vector2d p_inW_ = Eigen::Vector2d::Zero();
   std::uint64_t count_ = 0;
   double distance_m_ = 0.0;
