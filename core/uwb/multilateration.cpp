@@ -13,16 +13,15 @@ double horizontal(const RangeToAnchor& r, double z_B) {
   return std::sqrt(std::max(0.0, r.range_m * r.range_m - dz * dz));
 }
 
-// Distance of p outside the convex hull of pts (0 inside; for fewer than 3 non-collinear
-// points, the distance to the nearest segment).
-double outside_hull_m(std::vector<Eigen::Vector2d> pts, const Eigen::Vector2d& p) {
-  // Andrew's monotone chain.
+double cross(const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+}
+
+// The convex hull of pts, counter-clockwise (Andrew's monotone chain).
+std::vector<Eigen::Vector2d> convex_hull(std::vector<Eigen::Vector2d> pts) {
   std::sort(pts.begin(), pts.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
     return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
   });
-  const auto cross = [](const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-    return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
-  };
   std::vector<Eigen::Vector2d> hull(2 * pts.size());
   std::size_t k = 0;
   for (std::size_t i = 0; i < pts.size(); ++i) {
@@ -34,6 +33,12 @@ double outside_hull_m(std::vector<Eigen::Vector2d> pts, const Eigen::Vector2d& p
     hull[k++] = pts[i];
   }
   hull.resize(k > 1 ? k - 1 : k);
+  return hull;
+}
+
+// Distance of p outside a convex_hull() (0 inside; for a hull of fewer than 3 points, the
+// distance to the nearest segment).
+double outside_hull_m(const std::vector<Eigen::Vector2d>& hull, const Eigen::Vector2d& p) {
   bool inside = hull.size() >= 3;
   double best = 1e300;
   for (std::size_t i = 0; i < hull.size(); ++i) {
@@ -113,6 +118,7 @@ std::optional<Multilateration> multilaterate(const std::vector<RangeToAnchor>& r
   std::vector<Eigen::Vector2d> hull_points = area;
   if (hull_points.empty())
     for (const RangeToAnchor& r : ranges) hull_points.push_back(r.p_AinW.head<2>());
+  const std::vector<Eigen::Vector2d> hull = convex_hull(hull_points);
   std::optional<Multilateration> best = solve(ranges, z_B, o);
   // NLOS identification: with a redundant anchor, a residual well above the noise
   // suggests one biased range; the subset without it that fits best wins if it fits
@@ -126,21 +132,23 @@ std::optional<Multilateration> multilaterate(const std::vector<RangeToAnchor>& r
       if (m && (!best || m->rms_m < 0.5 * best->rms_m)) best = m;
     }
   }
-  if (best && outside_hull_m(hull_points, best->fix.z) > o.hull_margin_m) {
+  if (best && outside_hull_m(hull, best->fix.z) > o.hull_margin_m) {
     // A mirror? Re-solve from inside the hull: the centroid, and the solution reflected
     // through it; an inside fit at most 1.5x the residual RMS (or within one range sigma)
     // is the answer, else the outside one stands, flagged.
     Eigen::Vector2d c = Eigen::Vector2d::Zero();
     for (const Eigen::Vector2d& a : hull_points) c += a / static_cast<double>(hull_points.size());
+    bool outside = true;
     for (const Eigen::Vector2d& s : {c, Eigen::Vector2d(2.0 * c - best->fix.z)}) {
       const std::optional<Multilateration> m = solve(ranges, z_B, o, s);
-      if (m && outside_hull_m(hull_points, m->fix.z) <= o.hull_margin_m &&
+      if (m && outside_hull_m(hull, m->fix.z) <= o.hull_margin_m &&
           m->rms_m <= std::max(1.5 * best->rms_m, best->rms_m + o.range_sigma_m)) {
         best = m;
+        outside = false;
         break;
       }
     }
-    best->outside_hull = outside_hull_m(hull_points, best->fix.z) > o.hull_margin_m;
+    best->outside_hull = outside;
   }
   return best;
 }
