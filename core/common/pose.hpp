@@ -23,6 +23,10 @@ struct PoseEstimate {
   double n_eff = std::numeric_limits<double>::quiet_NaN();
   int leds = 0;             // LEDs decoded in the last frame
   std::string mode = "";    // e.g. "fused", "imu-only", "init"
+  // The motion mode the prediction used up to this pose (issue 16: the mode over time):
+  // walking (gait), moving (strapdown: no steps), still (zero velocity), constant-velocity
+  // (no IMU, or --motion cv); empty when unknown.
+  std::string motion = "";
   // Set by the pipeline: when the newest input this pose used arrived in its source
   // thread (steady clock, ns; 0 = unknown), and the age of that input when the pose was
   // handed to the sinks (s; NaN = unknown). Not written to the pose files (runs stay

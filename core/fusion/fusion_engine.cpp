@@ -709,6 +709,7 @@ void FusionEngine::emit(TimeNs t, std::vector<PoseEstimate>& out, bool force) {
   p.sigma_y = std::sqrt(std::max(0.0, e.cov_p(1, 1)) + floor2);
   p.n_eff = e.n_eff;
   p.leds = last_leds_;
+  p.motion = motion_regime_name(motion_.regime());
   // SPEC.md's modes: re-initialised (for 1 s after the filter restarted around a fix), lost
   // (the last corrections disagreed with the filter: it is being gated towards a restart),
   // tracking (an absolute correction within the last second), else dead-reckoning.

@@ -4,6 +4,16 @@
 
 namespace luxloc {
 
+const char* motion_regime_name(MotionRegime r) {
+  switch (r) {
+    case MotionRegime::gait: return "walking";
+    case MotionRegime::strapdown: return "moving";
+    case MotionRegime::still: return "still";
+    case MotionRegime::cv: break;
+  }
+  return "constant-velocity";
+}
+
 MotionSource::MotionSource(const MotionSourceOptions& options)
     : options_(options),
       pdr_(options.pdr),

@@ -49,6 +49,8 @@ struct MotionSourceOptions {
 
 // What the last input was (pdr: which of its three regimes).
 enum class MotionRegime { cv, strapdown, gait, still };
+// The regime's name in the pose output's `motion` column (SPEC.md "Pose output").
+const char* motion_regime_name(MotionRegime r);
 
 class MotionSource {
  public:

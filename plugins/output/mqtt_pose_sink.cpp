@@ -232,6 +232,7 @@ class MqttPoseSink::Client {
         s.add_number("sigma_y", format_fixed(last_pose_.sigma_y, 3));
         s.add_number("leds", std::to_string(last_pose_.leds));
         if (!last_pose_.mode.empty()) s.add_string("mode", last_pose_.mode);
+        if (!last_pose_.motion.empty()) s.add_string("motion", last_pose_.motion);
       }
       s.add_number("poses", std::to_string(poses()));
       if (const LatencySummary l = latency_.summary(); l.count > 0) {

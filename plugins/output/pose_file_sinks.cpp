@@ -20,8 +20,10 @@ PoseFileFormat parse_pose_format(const std::string& name) {
 
 std::string pose_csv_row(const PoseEstimate& p) {
   std::string mode = p.mode;
-  for (char& ch : mode)
-    if (ch == ',' || ch == '\n' || ch == '\r') ch = '_';
+  std::string motion = p.motion;
+  for (std::string* text : {&mode, &motion})
+    for (char& ch : *text)
+      if (ch == ',' || ch == '\n' || ch == '\r') ch = '_';
   std::string s;
   s.reserve(128);
   s += format_time_s(p.t, 6);
@@ -39,6 +41,8 @@ std::string pose_csv_row(const PoseEstimate& p) {
   s += format_fixed(p.sigma_yaw, 5);
   s += ',';
   s += format_fixed(p.sigma_z, 5);
+  s += ',';
+  s += motion;
   s += '\n';
   return s;
 }

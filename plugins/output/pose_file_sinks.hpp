@@ -25,7 +25,7 @@ enum class PoseFileFormat { kCsv, kTum };
 // "csv" or "tum"; anything else -> InputError naming the option.
 PoseFileFormat parse_pose_format(const std::string& name);
 
-inline constexpr const char* kPoseCsvHeader = "t,x,y,z,yaw,sigma_x,sigma_y,roll,pitch,n_eff,leds,mode,sigma_yaw,sigma_z";
+inline constexpr const char* kPoseCsvHeader = "t,x,y,z,yaw,sigma_x,sigma_y,roll,pitch,n_eff,leds,mode,sigma_yaw,sigma_z,motion";
 // One CSV data row (with its '\n').
 std::string pose_csv_row(const PoseEstimate& pose);
 // One TUM line (with its '\n'); empty when the pose is not finite.

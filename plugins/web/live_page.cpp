@@ -24,6 +24,7 @@ td:last-child{text-align:right;font-variant-numeric:tabular-nums}
 <tr><td>yaw</td><td><span id="pose-yaw">-</span> deg</td></tr>
 <tr><td>sigma x, y</td><td><span id="sigma">-</span> m</td></tr>
 <tr><td>mode</td><td id="mode">-</td></tr>
+<tr><td>motion</td><td id="motion">-</td></tr>
 <tr><td>LEDs in view</td><td id="leds-in-view">-</td></tr>
 <tr><td>latency p50 / p99</td><td><span id="latency">-</span> ms</td></tr>
 <tr><td>poses received</td><td id="pose-count">0</td></tr>
@@ -108,7 +109,8 @@ es.addEventListener("pose", e => {
   $("pose-t").textContent = fixed(p.t, 2); $("pose-x").textContent = fixed(p.x, 2); $("pose-y").textContent = fixed(p.y, 2);
   $("pose-yaw").textContent = fixed(p.yaw * 180 / Math.PI, 1);
   $("sigma").textContent = fixed(p.sx, 3) + ", " + fixed(p.sy, 3);
-  $("mode").textContent = p.mode || "-"; $("leds-in-view").textContent = p.leds;
+  $("mode").textContent = p.mode || "-"; $("motion").textContent = p.motion || "-";
+  $("leds-in-view").textContent = p.leds;
   $("pose-count").textContent = count; $("t-span").textContent = (p.t - firstT).toFixed(2);
   $("trail-points").textContent = trail.length;
   draw();

@@ -152,6 +152,7 @@ class LiveViewSink::Server {
       o.add_number("sy", format_fixed(p.sigma_y, 3));
       o.add_number("leds", std::to_string(p.leds));
       if (!p.mode.empty()) o.add_string("mode", p.mode);
+      if (!p.motion.empty()) o.add_string("motion", p.motion);
       o.add_number("latency_ms", format_fixed(1e3 * p.latency_s, 3));
       {
         std::lock_guard lock(trail_mutex_);

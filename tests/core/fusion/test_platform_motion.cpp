@@ -2,6 +2,7 @@
 // never walked with the pedestrian model, a walker is), and the UWB summary counts add up.
 #include <catch2/catch.hpp>
 #include <algorithm>
+#include <map>
 
 #include "core/fusion/fusion_engine.hpp"
 #include "core/sim/scenario.hpp"
@@ -14,7 +15,13 @@ namespace {
 struct Run {
   std::uint64_t steps = 0, steps_used = 0, uwb_samples = 0;
   std::array<double, 4> regime_s{};
+  std::map<std::string, std::size_t> pose_motion;  // poses per `motion` column value
+  std::size_t poses = 0;
   UwbStats uwb;
+  double motion_share(const std::string& name) const {
+    const auto it = pose_motion.find(name);
+    return it == pose_motion.end() ? 0.0 : static_cast<double>(it->second) / static_cast<double>(poses);
+  }
 };
 
 Run run_auto(const std::string& scenario, std::uint64_t seed, double duration_s, bool ekf = false) {
@@ -50,6 +57,8 @@ Run run_auto(const std::string& scenario, std::uint64_t seed, double duration_s,
   std::vector<PoseEstimate> out;
   for (const Sample& x : samples) engine.process(x, out);
   engine.finish(out);
+  for (const PoseEstimate& p : out) ++r.pose_motion[p.motion];
+  r.poses = out.size();
   r.steps = engine.motion().steps();
   r.steps_used = engine.motion().steps_used();
   r.regime_s = engine.motion().regime_seconds();
@@ -67,6 +76,10 @@ TEST_CASE("motion auto never walks the drone with the pedestrian model", "[motio
   CHECK(r.steps_used == 0);  // ...but no step reaches the gait speed
   CHECK(r.regime_s[kGait] == 0.0);
   CHECK(r.regime_s[static_cast<std::size_t>(MotionRegime::strapdown)] > 25.0);
+  // The pose output says so, pose by pose (the `motion` column).
+  REQUIRE(r.poses > 1000);
+  CHECK(r.pose_motion.count("walking") == 0);
+  CHECK(r.motion_share("moving") > 0.8);
 }
 
 TEST_CASE("motion auto walks a walker with the pedestrian model", "[motion][platform]") {
@@ -74,6 +87,11 @@ TEST_CASE("motion auto walks a walker with the pedestrian model", "[motion][plat
   CHECK(r.steps > 40);
   CHECK(r.steps_used == r.steps);  // the run of steps that proved the gait is replayed
   CHECK(r.regime_s[kGait] > 25.0);
+  REQUIRE(r.poses > 1000);
+  CHECK(r.motion_share("walking") > 0.6);
+  CHECK(r.pose_motion.count("constant-velocity") == 0);
+  for (const auto& [name, n] : r.pose_motion)
+    CHECK((name == "walking" || name == "moving" || name == "still"));
 }
 
 TEST_CASE("UWB summary counts add up to the measurements", "[uwb][platform]") {

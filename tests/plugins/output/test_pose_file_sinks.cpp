@@ -47,6 +47,7 @@ PoseEstimate sample_pose() {
   p.n_eff = 812.4;
   p.leds = 3;
   p.mode = "fused";
+  p.motion = "walking";
   return p;
 }
 
@@ -75,15 +76,16 @@ TEST_CASE("CSV pose sink: header, column order and number format", "[io]") {
     unknown.t = 2'000'000'000;
     unknown.p_BinW = {1, 2, 3};
     unknown.mode = "init,with comma";
+    unknown.motion = "still\nnext";
     sink.write(unknown);
     sink.flush();  // readable before the sink closes
     CHECK(lines(read_text(path)).size() == 3);
   }
   const auto l = lines(read_text(path));
   REQUIRE(l.size() == 3);
-  CHECK(l[0] == "t,x,y,z,yaw,sigma_x,sigma_y,roll,pitch,n_eff,leds,mode,sigma_yaw,sigma_z");
+  CHECK(l[0] == "t,x,y,z,yaw,sigma_x,sigma_y,roll,pitch,n_eff,leds,mode,sigma_yaw,sigma_z,motion");
   const auto f = split(l[1], ',');
-  REQUIRE(f.size() == 14);
+  REQUIRE(f.size() == 15);
   CHECK(f[0] == "1700000123.456789");
   CHECK(f[1] == "1.23457");
   CHECK(f[2] == "-2.50000");
@@ -98,8 +100,9 @@ TEST_CASE("CSV pose sink: header, column order and number format", "[io]") {
   CHECK(f[11] == "fused");
   CHECK(f[12] == "0.01230");
   CHECK(f[13] == "0.04000");
+  CHECK(f[14] == "walking");
   const auto g = split(l[2], ',');
-  REQUIRE(g.size() == 14);
+  REQUIRE(g.size() == 15);
   CHECK(g[0] == "2.000000");
   CHECK(g[5].empty());
   CHECK(g[6].empty());
@@ -107,6 +110,7 @@ TEST_CASE("CSV pose sink: header, column order and number format", "[io]") {
   CHECK(g[11] == "init_with comma");
   CHECK(g[12].empty());
   CHECK(g[13].empty());  // z nominal, not estimated
+  CHECK(g[14] == "still_next");  // a line break would split the row
   CHECK(read_text(path).find("nan") == std::string::npos);
 }
 
