@@ -47,6 +47,7 @@ struct SimArgs {
   std::optional<double> gyro_bias_rw_dps;
   std::optional<double> acc_bias_mps2;
   std::optional<double> scale_error;
+  std::optional<double> uwb_scale_sigma;  // per-anchor UWB range scale error (sigma, fraction)
 };
 
 // "B" (every axis) or "BX,BY,BZ" in deg/s -> rad/s.
@@ -146,6 +147,11 @@ int run_sim(const SimArgs& a) {
   if (a.gyro_bias_rw_dps) options.imu.gyro_bias_rw_rps_sqrt_s = *a.gyro_bias_rw_dps * std::numbers::pi / 180.0;
   if (a.acc_bias_mps2) options.imu.acc_bias_sigma_mps2 = *a.acc_bias_mps2;
   if (a.scale_error) options.imu.gyro_scale_sigma = options.imu.acc_scale_sigma = *a.scale_error;
+  if (a.uwb_scale_sigma) {
+    if (scenario.anchors.empty())
+      throw InputError("--uwb-scale", 0, "--uwb-scale", "scenario '" + a.scenario + "' has no UWB anchors");
+    scenario.uwb.scale_sigma = *a.uwb_scale_sigma;
+  }
   const sim::Simulator simulator(std::move(scenario), options);
 
   sim::SessionWriteOptions write;
@@ -224,6 +230,10 @@ void add_sim_command(CLI::App& root, Action& action) {
       ->check(CLI::Range(0.0, 1.0));
   cmd->add_option("--acc-bias", args->acc_bias_mps2, "accelerometer bias sigma per axis, m/s^2")
       ->check(CLI::Range(0.0, 2.0));
+  cmd->add_option("--uwb-scale", args->uwb_scale_sigma,
+                  "per-anchor UWB range scale error: measured = scale * true + bias, scale = 1 + N(0, SIGMA) per anchor "
+                  "(fraction; scenarios with anchors; written to sim_truth.yaml)")
+      ->check(CLI::Range(0.0, 0.1));
   cmd->add_option("--scale-error", args->scale_error, "gyro and accelerometer scale-error sigma per axis (fraction)")
       ->check(CLI::Range(0.0, 0.2));
   cmd->callback([args, &action] { action = [args] { return run_sim(*args); }; });

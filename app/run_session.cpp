@@ -240,6 +240,11 @@ void add_run_options(CLI::App* sub, RunConfig& cfg) {
                   "learn a range bias per UWB anchor while running: auto (>= 4 anchors), on, off")
       ->check(CLI::IsMember({"auto", "on", "off"}))
       ->capture_default_str();
+  sub->add_option("--uwb-scale", cfg.uwb_scale,
+                  "learn a range scale per UWB anchor too (with the learnt bias): on, off. Off by default: within "
+                  "a minute's flight the scale is barely observable (docs/PLATFORMS.md)")
+      ->check(CLI::IsMember({"on", "off"}))
+      ->capture_default_str();
   sub->add_option("--uwb-online-psd", cfg.uwb_online_psd,
                   "white-acceleration psd of the online height / bias filter's motion model, horizontal,vertical "
                   "((m/s^2)^2/Hz)")
@@ -439,6 +444,7 @@ RunOutcome run_session(const RunConfig& cfg, std::ostream& log) {
   };
   c.uwb.height = online(cfg.uwb_height);
   c.uwb.bias = online(cfg.uwb_bias);
+  c.uwb.scale = online(cfg.uwb_scale);
   if (cfg.uwb_online_psd.size() == 2) {
     c.uwb.online.horizontal_accel_psd = cfg.uwb_online_psd[0];
     c.uwb.online.vertical_accel_psd = cfg.uwb_online_psd[1];
@@ -683,6 +689,10 @@ void print_report(const RunOutcome& r, std::ostream& log) {
       if (!u.learnt_bias_m.empty()) {
         log << "; learnt range bias (m):" << std::setprecision(2);
         for (const auto& [id, b] : u.learnt_bias_m) log << " " << id << ":" << b;
+      }
+      if (!u.learnt_scale.empty()) {
+        log << "; scale:" << std::setprecision(4);
+        for (const auto& [id, k] : u.learnt_scale) log << " " << id << ":" << k;
       }
       log << std::setprecision(2) << "\n";
     }

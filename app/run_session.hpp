@@ -26,6 +26,7 @@ struct RunConfig {
   VoOptions vo;
   std::string uwb_likelihood = "robust";  // robust | gaussian
   std::string uwb_height = "auto", uwb_bias = "auto";  // auto | on | off (issue 16: learnt while running)
+  std::string uwb_scale = "off";  // on | off: a per-anchor range scale beside the learnt bias
   std::vector<double> uwb_online_psd;                  // empty: HeightBiasOptions' defaults
   std::string resampling = "systematic";
   std::string coupling = "tight";    // tight | loose

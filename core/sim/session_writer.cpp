@@ -142,7 +142,11 @@ void write_sim_truth(const Simulator& sim, const fs::path& p) {
   // Issue 16: the per-anchor range biases (only when drawn: historic files stay as they were).
   if (const std::vector<UwbAnchorBias> biases = sim.uwb_biases(); !biases.empty()) {
     fs << "uwb_anchor_biases" << "[";
-    for (const UwbAnchorBias& b : biases) fs << "{:" << "id" << b.anchor << "bias_m" << b.bias_m << "}";
+    for (const UwbAnchorBias& b : biases) {
+      fs << "{:" << "id" << b.anchor << "bias_m" << b.bias_m;
+      if (b.scale != 1.0) fs << "scale" << b.scale;
+      fs << "}";
+    }
     fs << "]";
     const UwbSimOptions& u = sim.scenario().uwb;
     if (u.blocked_anchor != 0)

@@ -11,10 +11,15 @@ namespace luxloc::sim {
 std::vector<UwbAnchorBias> draw_uwb_biases(const std::vector<UwbAnchor>& anchors, const UwbSimOptions& o,
                                            std::uint64_t seed) {
   std::vector<UwbAnchorBias> out;
-  if (!(o.bias_max_m > o.bias_min_m)) return out;
+  const bool biased = o.bias_max_m > o.bias_min_m, scaled = o.scale_sigma > 0.0;
+  if (!biased && !scaled) return out;
   std::mt19937_64 rng = make_rng(seed, RandomStream::uwb_bias);
   std::uniform_real_distribution<double> u(o.bias_min_m, o.bias_max_m);
-  for (const UwbAnchor& a : anchors) out.push_back({a.id, u(rng)});
+  for (const UwbAnchor& a : anchors) out.push_back({a.id, biased ? u(rng) : 0.0, 1.0});
+  // The scales after every bias: a session drawn before scales existed keeps its biases.
+  std::normal_distribution<double> n(0.0, 1.0);
+  if (scaled)
+    for (UwbAnchorBias& b : out) b.scale = 1.0 + o.scale_sigma * n(rng);
   return out;
 }
 
@@ -46,7 +51,8 @@ std::vector<SimUwbMeasurement> synthesize_uwb(const Trajectory& trajectory, cons
       m.sample.t = seconds_to_ns(t_i);
       m.sample.anchor = a.id;
       const double offset = offsets.empty() ? 0.0 : offsets[i].bias_m;
-      m.sample.range_m = std::max(0.0, m.true_range_m + offset + o.range_sigma_m * n_r +
+      const double scale = offsets.empty() ? 1.0 : offsets[i].scale;
+      m.sample.range_m = std::max(0.0, scale * m.true_range_m + offset + o.range_sigma_m * n_r +
                                            (m.nlos ? o.nlos_bias_min_m + b : 0.0));
       if (o.with_aoa) {
         const double theta = std::atan2(d.y(), d.x()) + o.aoa_sigma_rad * n_a +

@@ -30,6 +30,11 @@ struct UwbSimOptions {
   // a bias drawn once per run, uniform in [bias_min_m, bias_max_m] (antenna delay: mostly
   // short), from a stream of its own; equal bounds draw nothing (the historic sessions).
   double bias_min_m = 0.0, bias_max_m = 0.0;
+  // And scaled: measured = scale * true + bias, scale = 1 + N(0, scale_sigma) per anchor
+  // (`sim --uwb-scale`; 0: 1 exactly). A clock offset gives only ~2e-5; what real kits show
+  // as a slope of up to 1-2 % is a bias that changes with distance (received power), which
+  // a line fits to first order.
+  double scale_sigma = 0.0;
   // One anchor behind an obstacle during [blocked_from_s, blocked_to_s): all its ranges
   // there are NLOS (0: none).
   int blocked_anchor = 0;
@@ -42,6 +47,7 @@ struct UwbSimOptions {
 struct UwbAnchorBias {
   int anchor = 0;
   double bias_m = 0.0;
+  double scale = 1.0;
 };
 
 struct SimUwbMeasurement {
@@ -50,7 +56,7 @@ struct SimUwbMeasurement {
   double true_range_m = 0.0;
 };
 
-// The per-anchor range biases of a run (empty when the options draw none).
+// The per-anchor range biases and scales of a run (empty when the options draw neither).
 std::vector<UwbAnchorBias> draw_uwb_biases(const std::vector<UwbAnchor>& anchors, const UwbSimOptions& options,
                                            std::uint64_t seed);
 

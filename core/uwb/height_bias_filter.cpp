@@ -20,14 +20,21 @@ HeightBiasFilter::HeightBiasFilter(const HeightBiasOptions& options, double nomi
 void HeightBiasFilter::add_anchor(int id, bool calibrated) {
   if (!options_.estimate_bias || anchors_.count(id)) return;
   const Eigen::Index n = x_.size();
-  x_.conservativeResize(n + 1);
-  x_(n) = 0.0;
-  P_.conservativeResize(n + 1, n + 1);
-  P_.row(n).setZero();
-  P_.col(n).setZero();
+  const Eigen::Index added = options_.estimate_scale ? 2 : 1;
+  x_.conservativeResize(n + added);
+  x_.tail(added).setZero();
+  P_.conservativeResize(n + added, n + added);
+  P_.bottomRows(added).setZero();
+  P_.rightCols(added).setZero();
   const double s0 = calibrated ? options_.calibrated_bias_sigma0_m : options_.bias_sigma0_m;
   P_(n, n) = s0 * s0;
-  anchors_[id] = AnchorState{n, 0.0, s0, 0};
+  AnchorState a{n, -1, 0.0, s0, 0};
+  if (options_.estimate_scale) {
+    a.ks = n + 1;
+    const double k0 = calibrated ? options_.calibrated_scale_sigma0 : options_.scale_sigma0;
+    P_(a.ks, a.ks) = k0 * k0;
+  }
+  anchors_[id] = a;
 }
 
 void HeightBiasFilter::start(TimeNs t, const Eigen::Vector2d& p_xy, const Eigen::Matrix2d& cov_xy) {
@@ -60,7 +67,10 @@ void HeightBiasFilter::predict(TimeNs t) {
     x_(2) = std::clamp(x_(2), options_.min_height_m, options_.max_height_m);
     x_(5) = 0.0;
   }
-  for (auto& [id, a] : anchors_) P_(a.k, a.k) += options_.bias_walk_psd * dt;
+  for (auto& [id, a] : anchors_) {
+    P_(a.k, a.k) += options_.bias_walk_psd * dt;
+    if (a.ks >= 0) P_(a.ks, a.ks) += options_.scale_walk_psd * dt;
+  }
 }
 
 HeightBiasFilter::Outcome HeightBiasFilter::update(int id, const Eigen::Vector3d& a_inW, double range_m,
@@ -72,11 +82,14 @@ HeightBiasFilter::Outcome HeightBiasFilter::update(int id, const Eigen::Vector3d
   const auto it = anchors_.find(id);
   const Eigen::Index n = x_.size();
   Eigen::RowVectorXd H = Eigen::RowVectorXd::Zero(n);
-  H.head<3>() = d.transpose() / dn;
+  const bool known = it != anchors_.end();
+  const double s = known && it->second.ks >= 0 ? x_(it->second.ks) : 0.0;
+  H.head<3>() = (1.0 + s) * d.transpose() / dn;
   if (!options_.estimate_height) H(2) = 0.0;
-  if (it != anchors_.end()) H(it->second.k) = 1.0;
-  const double b = it != anchors_.end() ? x_(it->second.k) : 0.0;
-  const double nu = range_m - (dn + b);
+  if (known) H(it->second.k) = 1.0;
+  if (known && it->second.ks >= 0) H(it->second.ks) = dn;
+  const double b = known ? x_(it->second.k) : 0.0;
+  const double nu = range_m - ((1.0 + s) * dn + b);
   Eigen::VectorXd PHt = P_ * H.transpose();
   const double R = range_sigma_m * range_sigma_m;
   double S = H.dot(PHt) + R;
@@ -125,6 +138,16 @@ double HeightBiasFilter::height_sigma_m() const { return std::sqrt(std::max(0.0,
 double HeightBiasFilter::bias_m(int id) const {
   const auto it = anchors_.find(id);
   return it == anchors_.end() ? 0.0 : x_(it->second.k);
+}
+
+double HeightBiasFilter::scale(int id) const {
+  const auto it = anchors_.find(id);
+  return it == anchors_.end() || it->second.ks < 0 ? 1.0 : 1.0 + x_(it->second.ks);
+}
+
+double HeightBiasFilter::scale_sigma(int id) const {
+  const auto it = anchors_.find(id);
+  return it == anchors_.end() || it->second.ks < 0 ? 0.0 : std::sqrt(std::max(0.0, P_(it->second.ks, it->second.ks)));
 }
 
 double HeightBiasFilter::bias_sigma_m(int id) const {

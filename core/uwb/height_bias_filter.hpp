@@ -2,10 +2,14 @@
 // The UWB nuisance states the planar filters do not carry (issue 16 parts 1-3): the device
 // height z and one slow range bias per anchor, estimated while running by an extended
 // Kalman filter over the ranges alone (docs/PLATFORMS.md "Online bias and height"):
-//   state     x = [p (3-D), v (3-D), b_1 .. b_m]     (an anchor's b joins when first heard)
+//   state     x = [p (3-D), v (3-D), b_1, (s_1), .. b_m, (s_m)]  (an anchor's b, and its
+//             scale error s when estimated, join when it is first heard)
 //   motion    p' = v, v white acceleration (psd q_xy horizontally, q_z vertically);
-//             b_k a slow random walk (psd q_b)
-//   range     r_k = || p - a_k || + b_k + n,   n ~ N(0, s_r^2)
+//             b_k, s_k slow random walks (psd q_b, q_s)
+//   range     r_k = (1 + s_k) || p - a_k || + b_k + n,   n ~ N(0, s_r^2)
+// The scale separates from the bias only through the spread of distances an anchor is heard
+// at (a drone's 2-9 m): its prior is tight (HeightBiasOptions::scale_sigma0) and it moves
+// little unless the ranges ask for it.
 // Why its own 3-D position: the particle set is planar (core/filter/particle_set.hpp) and
 // cannot carry 1 + 8 more dimensions. A first version fed these states with the planar
 // filter's position as if known: the position had itself been pulled by the biased ranges,
@@ -30,6 +34,7 @@ namespace luxloc {
 struct HeightBiasOptions {
   bool estimate_height = false;
   bool estimate_bias = false;
+  bool estimate_scale = false;  // with estimate_bias only: a scale state per anchor too
   // Priors. Position: around the first planar estimate, its covariance plus 0.5 m; height:
   // around the nominal device height, 0.5 m covers a drone's 0.5-1.7 m around 1.1 m at 1.2
   // sigma. Bias: 0.3 m covers the antenna delays of uncalibrated kits (issue 16: -0.44 ..
@@ -49,6 +54,13 @@ struct HeightBiasOptions {
   // Bias random walk psd (m^2/s): 1e-5 lets a bias move ~2.5 cm a minute (temperature drift
   // of an antenna delay is slower); the filter then stays open to a wrong start.
   double bias_walk_psd = 1e-5;
+  // Scale error prior (fraction): what low-cost kits show as a slope is up to 1-2 % (a
+  // received-power bias that changes with distance; a clock offset alone is ~2e-5): 0.01.
+  // After calib uwb --scale 0.003 (its spread on sim drone seeds with 1 % scales: within
+  // 0.002). Random walk psd 1e-9 /s: a scale does not change within a run.
+  double scale_sigma0 = 0.01;
+  double calibrated_scale_sigma0 = 0.003;
+  double scale_walk_psd = 1e-9;
   // Innovations beyond this many sigma are set aside (NLOS long, gross short): 3 sigma keeps
   // 99.7 % of LOS ranges.
   double gate_sigma = 3.0;
@@ -94,6 +106,11 @@ class HeightBiasFilter {
   Eigen::Vector2d position_xy() const { return x_.head<2>(); }
   // The anchor's learnt bias (0 without a state) and its sigma (0 without a state).
   double bias_m(int id) const;
+  // The anchor's learnt scale (1 + s; 1 without a state).
+  double scale(int id) const;
+  double scale_sigma(int id) const;  // 0 without a state
+  // A range with the learnt bias and scale removed: (r - b) / (1 + s).
+  double corrected(int id, double range_m) const { return (range_m - bias_m(id)) / scale(id); }
   double bias_sigma_m(int id) const;
   bool nlos(int id) const;
   const HeightBiasStats& stats() const { return stats_; }
@@ -101,7 +118,8 @@ class HeightBiasFilter {
 
  private:
   struct AnchorState {
-    Eigen::Index k = 0;  // index of b in x_
+    Eigen::Index k = 0;   // index of b in x_
+    Eigen::Index ks = -1; // index of s in x_ (-1: no scale state)
     double long_share = 0.0;
     double sigma0_m = 0.0;  // the bias prior (calibrated or not)
     int short_run = 0;      // consecutive short-gated ranges

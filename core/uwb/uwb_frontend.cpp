@@ -27,6 +27,7 @@ HeightBiasOptions resolve_online(const UwbOptions& o, const UwbAnchorTable& anch
   const bool spread = many && below && above;
   h.estimate_bias = !o.fixes_only && (o.bias == UwbOnline::on || (o.bias == UwbOnline::automatic && many));
   h.estimate_height = !o.fixes_only && (o.height == UwbOnline::on || (o.height == UwbOnline::automatic && spread));
+  h.estimate_scale = h.estimate_bias && o.scale == UwbOnline::on;  // automatic: off (UwbOptions::scale)
   return h;
 }
 
@@ -49,8 +50,12 @@ void UwbFrontend::summarize_online() {
     stats_.final_height_sigma_m = height_bias_.height_sigma_m();
   }
   stats_.learnt_bias_m.clear();
+  stats_.learnt_scale.clear();
   if (height_bias_.options().estimate_bias)
-    for (const auto& [id, p] : anchors_.positions()) stats_.learnt_bias_m.emplace_back(id, height_bias_.bias_m(id));
+    for (const auto& [id, p] : anchors_.positions()) {
+      stats_.learnt_bias_m.emplace_back(id, height_bias_.bias_m(id));
+      if (height_bias_.options().estimate_scale) stats_.learnt_scale.emplace_back(id, height_bias_.scale(id));
+    }
 }
 
 bool UwbFrontend::nlos(int anchor) const {
@@ -61,7 +66,7 @@ bool UwbFrontend::nlos(int anchor) const {
 }
 
 double UwbFrontend::corrected_range(const UwbSample& s) const {
-  return anchors_.corrected_range(s.anchor, s.range_m) - height_bias_.bias_m(s.anchor);
+  return height_bias_.corrected(s.anchor, anchors_.corrected_range(s.anchor, s.range_m));
 }
 
 void UwbFrontend::observe(const UwbSample& s, const PlanarEstimate& e) {
@@ -87,14 +92,16 @@ std::optional<UwbRangeLikelihood> UwbFrontend::likelihood(const UwbSample& s) {
     return std::nullopt;
   }
   // The learnt states' own uncertainty widens the LOS core (two-sided around the learnt
-  // bias, part 2): sigma^2 + sigma_b^2 + (dz / d)^2 sigma_z^2, dz / d at the range itself.
+  // bias, part 2): sigma^2 + sigma_b^2 + (d sigma_s)^2 + (dz / d)^2 sigma_z^2, dz / d at the
+  // range itself (sigma_s: the scale's, which grows with the distance).
   UwbNoiseModel noise = options_.noise;
   const double range = corrected_range(s);
   if (height_bias_.enabled()) {
     const double dz = height_bias_.height_m() - a->z();
     const double slope = std::min(1.0, std::abs(dz) / std::max(range, 0.1));
     const double sb = height_bias_.bias_sigma_m(s.anchor), sz = slope * height_bias_.height_sigma_m();
-    noise.range_sigma_m = std::sqrt(noise.range_sigma_m * noise.range_sigma_m + sb * sb + sz * sz);
+    const double ss = range * height_bias_.scale_sigma(s.anchor);
+    noise.range_sigma_m = std::sqrt(noise.range_sigma_m * noise.range_sigma_m + sb * sb + ss * ss + sz * sz);
   }
   return UwbRangeLikelihood(*a, height_bias_.height_m(), range, s.aoa_rad, noise);
 }

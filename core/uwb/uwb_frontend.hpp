@@ -42,6 +42,7 @@ struct UwbStats {
   double final_height_m = std::numeric_limits<double>::quiet_NaN();
   double final_height_sigma_m = std::numeric_limits<double>::quiet_NaN();
   std::vector<std::pair<int, double>> learnt_bias_m;
+  std::vector<std::pair<int, double>> learnt_scale;  // 1 + s per anchor (with --uwb-scale)
   std::uint64_t accounted() const {
     return unknown_anchor + rejected + weighed + fixes_used + fixes_gated + no_fix + reinitializations + underflow +
            nlos_set_aside;

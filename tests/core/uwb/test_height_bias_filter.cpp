@@ -131,3 +131,51 @@ TEST_CASE("height / bias filter: a run of short ranges reopens a wrong bias inst
   CHECK(f.stats().gated_short < 20);              // not 250 ranges set aside
   for (int i : {0, 1, 3, 4, 5, 6, 7}) CHECK(std::abs(f.bias_m(i + 1) - bias[i]) < 0.05);
 }
+
+TEST_CASE("height / bias filter: with scale states, learns each anchor's range scale beside its bias",
+          "[uwb][height]") {
+  // 120 s over the arena on a Lissajous path (distances 0.5-8 m to every anchor), ranges
+  // r = s_true d + b_true + 5 cm noise, 1-1.5 % scales: the line measured = scale * true + bias
+  // that `sim --uwb-scale` draws and `calib uwb --scale` fits offline.
+  const std::vector<Eigen::Vector3d> a = arena();
+  const double bias[8] = {-0.45, -0.30, 0.08, -0.12, -0.38, -0.02, -0.25, 0.05};
+  const double scale[8] = {0.985, 1.012, 1.0, 0.99, 1.015, 1.005, 0.995, 1.01};
+  const auto run = [&](bool with_scale, double& worst_scale_err, double& range_rms) {
+    HeightBiasOptions o;
+    o.estimate_height = o.estimate_bias = true;
+    o.estimate_scale = with_scale;
+    HeightBiasFilter f(o, 1.1);
+    for (int i = 0; i < 8; ++i) f.add_anchor(i + 1, false);
+    std::mt19937_64 rng(7);
+    std::normal_distribution<double> noise(0.0, 0.05);
+    double sq = 0.0;
+    int n = 0;
+    for (int k = 0; k < 1200 * 8; ++k) {
+      const double t = 0.0125 * k;
+      const int i = k % 8;
+      const Eigen::Vector3d p(4.0 + 3.3 * std::sin(0.21 * t), 3.0 + 2.3 * std::sin(0.34 * t + 0.5),
+                              1.1 + 0.5 * std::sin(0.3 * t));
+      const double d = (p - a[static_cast<std::size_t>(i)]).norm();
+      const double r = scale[i] * d + bias[i] + noise(rng);
+      if (k == 0) f.start(0, p.head<2>() + Eigen::Vector2d(0.3, -0.2), Eigen::Matrix2d::Identity() * 0.09);
+      f.predict(seconds_to_ns(t));
+      f.update(i + 1, a[static_cast<std::size_t>(i)], r, 0.05);
+      if (t > 90.0) {  // what the planar filter weighs: the range with bias and scale removed
+        sq += (f.corrected(i + 1, r) - d) * (f.corrected(i + 1, r) - d);
+        ++n;
+      }
+    }
+    worst_scale_err = 0.0;
+    for (int i = 0; i < 8; ++i) worst_scale_err = std::max(worst_scale_err, std::abs(f.scale(i + 1) - scale[i]));
+    range_rms = std::sqrt(sq / n);
+  };
+  double err_on = 0, rms_on = 0, err_off = 0, rms_off = 0;
+  run(true, err_on, rms_on);
+  run(false, err_off, rms_off);
+  INFO("with scale: worst scale error " << err_on << ", corrected range rms " << rms_on << " m; bias only: rms "
+                                        << rms_off << " m");
+  CHECK(err_off == Approx(0.015));  // no scale state: 1 exactly
+  CHECK(err_on < 0.5 * err_off);  // measured 0.0057 after 120 s
+  CHECK(rms_on < 0.052);           // the 5 cm noise and little else (measured 0.0498)
+  CHECK(rms_on < rms_off);         // bias only: 0.0534
+}

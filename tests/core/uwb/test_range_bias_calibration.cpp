@@ -5,6 +5,7 @@
 #include <map>
 
 #include "core/fusion/fusion_engine.hpp"
+#include "core/sim/scenario.hpp"
 #include "core/sim/simulator.hpp"
 #include "core/uwb/range_bias_calibration.hpp"
 
@@ -88,4 +89,32 @@ TEST_CASE("Anchor calibration corrects ranges and defaults leave them as measure
   a.bias_m = -0.2;
   a.scale = 1.01;
   CHECK(a.corrected_range(1.01 * 3.0 - 0.2) == Approx(3.0));
+}
+
+TEST_CASE("calib uwb --scale recovers simulated per-anchor scales and biases", "[uwb][calib][platform]") {
+  // `sim --uwb-scale 0.01`: measured = scale * true + bias per anchor; the offline line fit
+  // (RangeCalibrationOptions::fit_scale) over a 60 s flight (2-9 m to each anchor).
+  sim::SimOptions o;
+  o.seed = 103;
+  sim::Scenario scenario = sim::make_scenario("drone");
+  scenario.uwb.scale_sigma = 0.01;
+  const sim::Simulator simulator(std::move(scenario), o);
+  std::map<int, std::vector<RangePair>> pairs;
+  std::map<int, Eigen::Vector3d> where;
+  for (const UwbAnchor& a : simulator.scenario().anchors) where[a.id] = a.p_inW;
+  for (const sim::SimUwbMeasurement& m : simulator.uwb_measurements())
+    pairs[m.sample.anchor].push_back(
+        {m.sample.range_m, (simulator.truth(ns_to_seconds(m.sample.t)).p_BinW - where[m.sample.anchor]).norm()});
+  RangeCalibrationOptions with_scale;
+  with_scale.fit_scale = true;
+  int scaled = 0;
+  for (const sim::UwbAnchorBias& b : simulator.uwb_biases()) {
+    INFO("anchor " << b.anchor << " scale " << b.scale << " bias " << b.bias_m);
+    scaled += std::abs(b.scale - 1.0) > 0.003;
+    const RangeCalibration c = fit_range_calibration(pairs[b.anchor], with_scale);
+    REQUIRE(c.valid);
+    CHECK(std::abs(c.scale - b.scale) < 0.003);
+    CHECK(std::abs(c.bias_m - b.bias_m) < 0.02);
+  }
+  CHECK(scaled >= 4);  // the draw did scale the anchors
 }
