@@ -8,10 +8,12 @@
 #   vlc        walk scenario, IMU + VLC, defaults
 #   blackout   the same with all lights off 40-55 s (max error in the blackout, and 2-3 s after)
 #   uwb        uwb scenario (one TOF + AOA base station, 5 % NLOS), IMU + UWB
+#   fixes      IMU + position fixes at 1 Hz, sigma 0.5 m per axis (no camera): a walker whose
+#              absolute source says nothing of the yaw but the track
 #   pdr        IMU only from the true start (--start): end error as % of the distance walked
 #   calib      PDR after calibration: lights for 30 s (the fixes calibrate the gait), then
 #              all lights off to the end (60 s): end error as % of the distance walked in the dark
-# (not run by default: CASES="vlc blackout uwb pdr calib" adds it)
+# (calib and fixes are not run by default: CASES="vlc blackout uwb pdr calib fixes" adds them)
 set -euo pipefail
 first=${1:-101}; last=${2:-130}; luxloc=${3:-build/luxloc}; shift $(( $# < 3 ? $# : 3 )) || true
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
@@ -26,6 +28,7 @@ for case in ${CASES:-vlc blackout uwb pdr}; do
       blackout) "$luxloc" sim --out "$d" --scenario walk "${args[@]}" --blackout 40:15 > /dev/null ;;
       calib) "$luxloc" sim --out "$d" --scenario walk "${args[@]}" --blackout 30:60 > /dev/null ;;
       uwb) "$luxloc" sim --out "$d" --scenario uwb "${args[@]}" > /dev/null ;;
+      fixes) "$luxloc" sim --out "$d" --scenario walk --no-frames --fixes 1:0.5 "${args[@]}" > /dev/null ;;
       pdr) "$luxloc" sim --out "$d" --scenario walk --no-frames "${args[@]}" > /dev/null
            start=$(awk -F, 'NR==2 { print $2 "," $3 "," $5 }' "$d/groundtruth.csv"); run=(--start "$start" --start-sigma 0.02) ;;
     esac

@@ -261,7 +261,7 @@ void ParticleFilter::draw_heading_prior(std::uint64_t step, double mean, double 
 void ParticleFilter::walk_heading(const MotionInput& u) {
   if (!set_.heading) return;
   // HeadingNoise::propagate, composed with what is pending since the last flush.
-  pending_yaw_decay_ *= options_.heading.propagate(pending_yaw_var_, u.dt, u.heading_drift_s, u.heading_bounded);
+  pending_yaw_decay_ *= options_.heading.propagate(pending_yaw_var_, u.dt, u.heading_drift_s, u.heading_bound_rad);
 }
 
 void ParticleFilter::flush_heading_walk() {

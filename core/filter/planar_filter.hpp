@@ -48,10 +48,11 @@ struct MotionInput {
   // Time since the heading was last fixed by an observation (s, at the start of this
   // interval): the yaw-offset state's drift grows with it (HeadingNoise::bias_sigma_rps).
   double heading_drift_s = 0.0;
-  // True while an absolute yaw reference bounds the AHRS's yaw error (its magnetometer
-  // corrects it) and nothing walks on the offset (not a walker: FusionEngine::predict_to): the
-  // yaw offset then reverts to 0 instead of walking without bound (HeadingNoise::bounded_rad).
-  bool heading_bounded = false;
+  // > 0 while an absolute yaw reference bounds the AHRS's yaw error (its magnetometer
+  // corrects it): the yaw offset then reverts to 0 with this stationary sigma (rad) instead
+  // of walking without bound (HeadingNoise::bounded_rad, walker_bounded_rad;
+  // FusionEngine::predict_to picks one). 0: a random walk.
+  double heading_bound_rad = 0.0;
 };
 
 // An absolute 2-D position measurement (a VLC fix, a UWB position, fixes.csv).

@@ -190,14 +190,15 @@ void FusionEngine::predict_to(TimeNs t) {
   if (t <= t_filter_) return;
   MotionInput u = motion_.input(t_filter_, t);
   u.heading_drift_s = heading_drift_s(t_filter_);
-  // Mean reversion of the yaw offset (HeadingNoise::bounded_rad) only for a platform that
-  // does not walk: a walker's offset is what the camera measured, and its walking direction
-  // (AHRS yaw + e + d) dead-reckons through a blackout on it; pulled towards 0 there, the
-  // tuning seeds 41-50 ended their 15 s blackouts 0.30 -> 0.40 m off on average (seed 46:
-  // 0.33 -> 0.79 m). Per platform, not per moment: reverting while a walker stood still
-  // cost the hold-out heading table 0.1-0.15 deg of yaw p95.
+  // Mean reversion of the yaw offset while the magnetometer bounds the AHRS's yaw: for a
+  // platform that does not walk HeadingNoise::bounded_rad, for a walker walker_bounded_rad
+  // (its track's heading goes to the walking-direction offset d; e only holds the AHRS's
+  // error). Per platform, not per moment: a walker stays one while it stands.
   if (motion_.model() == MotionModel::pdr && motion_.gait_confirmed()) walker_ = true;
-  u.heading_bounded = heading_bounded() && !walker_;
+  {
+    const HeadingNoise& n = options_.pf.heading;
+    u.heading_bound_rad = !heading_bounded() ? 0.0 : walker_ ? n.walker_bounded_rad : n.bounded_rad;
+  }
   // Dead reckoning: once per outage the gait calibration's spread grows to the model's
   // real error from one stretch to the next (GaitNoise::dead_reckoning_*).
   if (pf_ && u.has_gait && gait_widened_at_fix_ != t_last_fix_ &&
@@ -206,7 +207,7 @@ void FusionEngine::predict_to(TimeNs t) {
     gait_widened_at_fix_ = t_last_fix_;
   }
   filter_->predict(u);
-  if (heading_observer_) heading_observer_->predict(u.dt, u.heading_drift_s, u.heading_bounded);
+  if (heading_observer_) heading_observer_->predict(u.dt, u.heading_drift_s, u.heading_bound_rad);
   t_filter_ = t;
 }
 

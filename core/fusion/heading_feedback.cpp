@@ -30,9 +30,9 @@ double HeadingFeedback::since_fix_s(TimeNs t) const {
   return t_last_ ? std::max(0.0, ns_to_seconds(t - *t_last_)) : std::numeric_limits<double>::infinity();
 }
 
-void HeadingObserver::predict(double dt, double drift_s, bool bounded) {
+void HeadingObserver::predict(double dt, double drift_s, double bound_rad) {
   if (!(dt > 0.0) || !std::isfinite(dt)) return;
-  offset_ *= noise_.propagate(var_, dt, drift_s, bounded);
+  offset_ *= noise_.propagate(var_, dt, drift_s, bound_rad);
   // Never more uncertain than "anywhere": keeps the gain meaningful after a long outage.
   var_ = std::min(var_, 1.0);
 }

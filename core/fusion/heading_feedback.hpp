@@ -81,7 +81,7 @@ class HeadingObserver {
  public:
   explicit HeadingObserver(const HeadingNoise& noise = {}) : noise_(noise), var_(noise.sigma0_rad * noise.sigma0_rad) {}
   // Over dt seconds, drift_s after the last heading fix.
-  void predict(double dt, double drift_s, bool bounded = false);
+  void predict(double dt, double drift_s, double bound_rad = 0.0);
   // Gated at gate_sigma; false when refused.
   bool correct(const YawMeasurement& m, double gate_sigma = 4.0);
   void shift(double delta_rad) { offset_ -= delta_rad; }
