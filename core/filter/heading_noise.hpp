@@ -54,6 +54,8 @@ struct HeadingNoise {
   // 0.96, disturbed 1.19 -> 1.21, poor 2.23 -> 1.96, 1 deg/s bias + disturbance + blackout
   // 1.47 -> 1.97 deg (ATE 0.089 -> 0.074 m): there the AHRS itself is 3 deg off and the
   // reversion leans on it. 2 deg: the best of the four on the blackouts; 1.5 gains little more.
+  // Not while a walker is in the dark after the camera measured e (FusionEngine::predict_to:
+  // the camera's e is kept for max_drift_s), which brought that blackout back to 1.52 deg.
   double walker_bounded_rad = 0.035;
   // The EKF path's observer never claims to know e better than this (rad): successive
   // camera yaws share their errors (the map survey, the lens model, the AHRS's tilt), so
