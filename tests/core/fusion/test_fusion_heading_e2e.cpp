@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numbers>
 #include <string>
+#include <utility>
 
 #include "core/eval/trajectory_io.hpp"
 #include "core/eval/trajectory_metrics.hpp"
@@ -105,15 +106,18 @@ TEST_CASE("Walker without a camera (one UWB station, 1 Hz fixes): the fused yaw 
   // The track of a walker observes only the sum of the yaw offset and the walking-direction
   // offset; without the offset's mean reversion for walkers (HeadingNoise::walker_bounded_rad)
   // these sessions' fused yaw p95 was 2-4x the AHRS's: 4.57 vs 1.13 deg (UWB), 3.90 vs 1.73
-  // deg (fixes); with it 2.25 and 1.66 deg.
-  for (const std::string& args : {std::string("--scenario uwb --seed 34 --walker random --imu-grade consumer"),
-                                  std::string("--scenario walk --no-frames --fixes 1:0.5 --seed 35 --walker random "
-                                              "--imu-grade consumer --duration 60")}) {
+  // deg (fixes); with it 2.25 and 1.66 deg (gcc Release; the clang sanitizer build, whose
+  // particles draw other histories: 2.73 and 1.71 deg). Tolerance over the AHRS per case:
+  // between with (the worse of the two builds) and without.
+  const std::pair<std::string, double> cases[] = {
+      {"--scenario uwb --seed 34 --walker random --imu-grade consumer", 2.0},
+      {"--scenario walk --no-frames --fixes 1:0.5 --seed 35 --walker random --imu-grade consumer --duration 60", 1.0}};
+  for (const auto& [args, tolerance_deg] : cases) {
     const Runs r = sim_and_run("heading_no_camera", args);
     WARN(args << ": fused yaw p95 " << r.fused.yaw_p95_rad / kDeg << " deg (AHRS " << r.ahrs.yaw_p95_rad / kDeg
               << "), ATE " << r.fused.rmse_m << " (AHRS yaw " << r.ahrs.rmse_m << ") m, within 1.96 sigma_yaw "
               << 100.0 * r.fused.yaw_consistency << " %");
-    CHECK(r.fused.yaw_p95_rad <= r.ahrs.yaw_p95_rad + 1.5 * kDeg);
+    CHECK(r.fused.yaw_p95_rad <= r.ahrs.yaw_p95_rad + tolerance_deg * kDeg);
     CHECK(r.fused.rmse_m <= 1.1 * r.ahrs.rmse_m);
     CHECK(r.fused.yaw_consistency >= 0.85);
   }
