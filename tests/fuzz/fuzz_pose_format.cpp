@@ -2,7 +2,7 @@
 // CSV row and the TUM line, for any bit pattern in every field (NaN, infinities, 1e308,
 // denormals, the extremes of the ns timeline). Round trip: the JSON is one flat object
 // whose numbers parse back to the pose within the printed precision, with unknown values
-// omitted (never nan/inf/null); the CSV row has exactly 12 fields, empty exactly where
+// omitted (never nan/inf/null); the CSV row has exactly 15 fields, empty exactly where
 // the value is not finite; the TUM line is empty exactly when the pose cannot be written
 // and otherwise holds a unit quaternion with qw >= 0.
 #include <cstring>
@@ -87,6 +87,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   p.leds = r.take<int>();
   const std::uint64_t seq = r.take<std::uint64_t>();
   p.mode.assign(reinterpret_cast<const char*>(r.p), std::min<std::size_t>(r.n, 64));
+  // The motion column's text: the input's last bytes (commas and line breaks included).
+  const std::size_t motion_n = std::min<std::size_t>(r.n, 32);
+  p.motion.assign(reinterpret_cast<const char*>(r.p) + (r.n - motion_n), motion_n);
 
   const std::string json = pose_json(p, seq);
   const auto j = parse_flat_json(json);
@@ -104,7 +107,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::string row = pose_csv_row(p);
   if (row.empty() || row.back() != '\n') fuzz::fail("CSV row without its newline");
   const auto fields = split(row.substr(0, row.size() - 1), ',');
-  if (fields.size() != 14) fuzz::fail("CSV row with " + std::to_string(fields.size()) + " fields: " + row);
+  if (row.find_first_of("\r\n") != row.size() - 1) fuzz::fail("CSV row with a line break inside: " + row);
+  if (fields.size() != 15) fuzz::fail("CSV row with " + std::to_string(fields.size()) + " fields: " + row);
   const double values[] = {p.p_BinW.x(), p.p_BinW.y(), p.p_BinW.z(), p.yaw, p.sigma_x, p.sigma_y, p.roll, p.pitch, p.n_eff};
   for (int k = 0; k < 9; ++k)
     if (fields[1 + k].empty() == std::isfinite(values[k])) fuzz::fail("CSV field " + std::to_string(1 + k) + " wrong: " + row);
