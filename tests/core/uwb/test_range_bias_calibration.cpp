@@ -13,6 +13,18 @@ using namespace luxloc;
 
 namespace {
 
+// Per anchor, each simulated range with its true 3-D distance (what `calib uwb` pairs up
+// from uwb.csv and groundtruth.csv).
+std::map<int, std::vector<RangePair>> truth_range_pairs(const sim::Simulator& simulator) {
+  std::map<int, Eigen::Vector3d> where;
+  for (const UwbAnchor& a : simulator.scenario().anchors) where[a.id] = a.p_inW;
+  std::map<int, std::vector<RangePair>> pairs;
+  for (const sim::SimUwbMeasurement& m : simulator.uwb_measurements())
+    pairs[m.sample.anchor].push_back(
+        {m.sample.range_m, (simulator.truth(ns_to_seconds(m.sample.t)).p_BinW - where[m.sample.anchor]).norm()});
+  return pairs;
+}
+
 double run_rmse(const sim::Simulator& simulator, const std::vector<UwbAnchor>& anchors, const UwbOptions& uwb = {}) {
   std::vector<Sample> samples;
   for (const ImuSample& m : simulator.imu_samples()) {
@@ -51,12 +63,7 @@ TEST_CASE("calib uwb recovers the drone scenario's per-anchor biases within 2 cm
     sim::SimOptions o;
     o.seed = seed;
     const sim::Simulator simulator(sim::make_scenario("drone"), o);
-    std::map<int, std::vector<RangePair>> pairs;
-    std::map<int, Eigen::Vector3d> where;
-    for (const UwbAnchor& a : simulator.scenario().anchors) where[a.id] = a.p_inW;
-    for (const sim::SimUwbMeasurement& m : simulator.uwb_measurements())
-      pairs[m.sample.anchor].push_back(
-          {m.sample.range_m, (simulator.truth(ns_to_seconds(m.sample.t)).p_BinW - where[m.sample.anchor]).norm()});
+    std::map<int, std::vector<RangePair>> pairs = truth_range_pairs(simulator);
     std::vector<UwbAnchor> calibrated = simulator.scenario().anchors;
     for (const sim::UwbAnchorBias& b : simulator.uwb_biases()) {
       const RangeCalibration c = fit_range_calibration(pairs[b.anchor]);
@@ -99,12 +106,7 @@ TEST_CASE("calib uwb --scale recovers simulated per-anchor scales and biases", "
   sim::Scenario scenario = sim::make_scenario("drone");
   scenario.uwb.scale_sigma = 0.01;
   const sim::Simulator simulator(std::move(scenario), o);
-  std::map<int, std::vector<RangePair>> pairs;
-  std::map<int, Eigen::Vector3d> where;
-  for (const UwbAnchor& a : simulator.scenario().anchors) where[a.id] = a.p_inW;
-  for (const sim::SimUwbMeasurement& m : simulator.uwb_measurements())
-    pairs[m.sample.anchor].push_back(
-        {m.sample.range_m, (simulator.truth(ns_to_seconds(m.sample.t)).p_BinW - where[m.sample.anchor]).norm()});
+  std::map<int, std::vector<RangePair>> pairs = truth_range_pairs(simulator);
   RangeCalibrationOptions with_scale;
   with_scale.fit_scale = true;
   int scaled = 0;
