@@ -67,8 +67,9 @@ struct HeadingNoise {
   // ago), for both filters (the particles' yaw offsets and the EKF path's HeadingObserver):
   // adds the walk's variance to var and returns the factor e's mean decays by (1 without
   // mean reversion). White walk plus the drift of an unknown residual gyro bias, whose
-  // variance (sigma_b t)^2 grows at 2 sigma_b^2 t; while `bounded`, Ornstein-Uhlenbeck with
-  // stationary sigma bounded_rad at the same short-term rate: e -> a e + N(0, q),
+  // variance (sigma_b t)^2 grows at 2 sigma_b^2 t; with bound_rad > 0 (bounded_rad or
+  // walker_bounded_rad, as FusionEngine::predict_to picks), Ornstein-Uhlenbeck with that
+  // stationary sigma at the same short-term rate: e -> a e + N(0, q),
   // a = exp(-dt / tau), q = bound^2 (1 - a^2), tau = 2 bound^2 / rate.
   double propagate(double& var, double dt, double drift_s, double bound_rad) const {
     const double t = std::clamp(std::isfinite(drift_s) ? drift_s : max_drift_s, 0.0, max_drift_s);

@@ -143,7 +143,7 @@ class FusionEngine final : public FusionStage {
   std::optional<TimeNs> t_last_reinit_;  // time of the first pose after the last restart  // sample time at which the filter first initialised
   std::unique_ptr<UwbFrontend> uwb_;
   int uwb_disagreements_ = 0;
-  bool walker_ = false;  // a gait was confirmed (pdr): the yaw offset does not revert
+  bool walker_ = false;  // a gait was confirmed (pdr): the yaw offset reverts by walker_bounded_rad
   // The latest UWB fixes before the filter started (UwbOptions::start_agreeing_fixes).
   std::deque<PositionMeasurement> uwb_start_fixes_;
   // The fix to start at once start_agreeing_fixes agree: their information-weighted mean

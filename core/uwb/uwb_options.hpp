@@ -40,8 +40,8 @@ struct UwbOptions {
   // running (core/uwb/height_bias_filter.hpp), not in --uwb-alone (the plain baseline).
   UwbOnline height = UwbOnline::automatic;
   UwbOnline bias = UwbOnline::automatic;
-  // A per-anchor range scale beside the bias (HeightBiasOptions::scale_sigma0), with >= 4
-  // anchors when on. Off by default (automatic = off): on sim drone seeds 1-5 (60 s, tuning
+  // A per-anchor range scale beside the bias (HeightBiasOptions::scale_sigma0), wherever the
+  // bias is learnt, when on. Off by default (automatic = off): on sim drone seeds 1-5 (60 s, tuning
   // seeds) the learnt scales did not find the simulated 1 % ones (`sim --uwb-scale 0.01`) and
   // the ATE moved by 1 mm either way; over 240 s (seeds 1, 2) most scales came within 0.005
   // and the ATE fell 0.058 -> 0.050 / 0.042 -> 0.041 m with scale errors, but rose 1-2 mm
