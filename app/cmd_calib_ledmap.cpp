@@ -40,7 +40,7 @@ LedMapOptions relaxed_map_options() {
 
 // Reads the session's frames (decoding each right away) and IMU samples.
 struct DecodedSession {
-  std::vector<LedSighting> sightings;
+  std::vector<TimedLedSighting> sightings;
   std::vector<ImuSample> imu;
   std::size_t frames = 0, blobs = 0, rejected = 0;
   std::optional<CameraModel> camera;

@@ -16,10 +16,10 @@ double median(std::vector<double> v) {
 }
 
 // Bearing rays towards each LED (by map index) from the sightings with a known pose.
-std::map<int, std::vector<BearingRay>> rays_by_led(const CameraModel& camera, const std::vector<LedSighting>& sightings,
+std::map<int, std::vector<BearingRay>> rays_by_led(const CameraModel& camera, const std::vector<TimedLedSighting>& sightings,
                                                    const PoseLookup& pose_at) {
   std::map<int, std::vector<BearingRay>> rays;
-  for (const LedSighting& s : sightings) {
+  for (const TimedLedSighting& s : sightings) {
     const std::optional<DevicePose> pose = pose_at(s.t_obs);
     if (!pose) continue;
     const Eigen::Matrix3d R_BtoW = pose->q_BtoW.toRotationMatrix();
@@ -33,12 +33,12 @@ std::map<int, std::vector<BearingRay>> rays_by_led(const CameraModel& camera, co
 
 }  // namespace
 
-std::vector<LedSighting> sightings_of_frame(TimeNs t_frame, const std::vector<LedObservation>& obs,
+std::vector<TimedLedSighting> sightings_of_frame(TimeNs t_frame, const std::vector<LedObservation>& obs,
                                             const CameraModel& camera) {
-  std::vector<LedSighting> out;
+  std::vector<TimedLedSighting> out;
   for (const LedObservation& o : obs) {
     if (!o.accepted()) continue;
-    LedSighting s;
+    TimedLedSighting s;
     s.led_index = o.led_index;
     // Rolling shutter: the blob's rows were exposed row x row time after row 0.
     s.t_obs = t_frame + seconds_to_ns(camera.row_offset_s(o.uv.y()) + 0.5 * camera.exposure_s);
@@ -68,7 +68,7 @@ std::optional<DevicePose> PoseTrack::at(TimeNs t) const {
   return p;
 }
 
-LedRefineReport refine_led_map(const LedMap& map, const CameraModel& camera, const std::vector<LedSighting>& sightings,
+LedRefineReport refine_led_map(const LedMap& map, const CameraModel& camera, const std::vector<TimedLedSighting>& sightings,
                                const PoseLookup& pose_at, const LedRefineOptions& options) {
   const auto rays = rays_by_led(camera, sightings, pose_at);
   std::vector<Led> leds = map.leds();
@@ -99,13 +99,13 @@ LedRefineReport refine_led_map(const LedMap& map, const CameraModel& camera, con
   return report;
 }
 
-LedCheckReport check_led_map(const LedMap& map, const CameraModel& camera, const std::vector<LedSighting>& sightings,
+LedCheckReport check_led_map(const LedMap& map, const CameraModel& camera, const std::vector<TimedLedSighting>& sightings,
                              const PoseLookup* pose_at, const LedCheckOptions& o) {
   LedCheckReport rep;
   const auto& leds = map.leds();
   std::vector<std::vector<double>> freqs(leds.size());
   std::vector<double> rel_sigmas;
-  for (const LedSighting& s : sightings) {
+  for (const TimedLedSighting& s : sightings) {
     if (s.led_index < 0 || static_cast<std::size_t>(s.led_index) >= leds.size()) continue;
     freqs[static_cast<std::size_t>(s.led_index)].push_back(s.freq_hz);
     if (s.freq_hz > 0) rel_sigmas.push_back(s.freq_sigma_hz / s.freq_hz);

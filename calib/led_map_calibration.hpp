@@ -22,7 +22,7 @@ namespace luxloc {
 
 // One decoded LED blob at its observation time (frame start + row x row time + half the
 // exposure: when its rows were exposed).
-struct LedSighting {
+struct TimedLedSighting {
   int led_index = -1;  // into the map
   TimeNs t_obs = 0;
   Eigen::Vector2d uv = Eigen::Vector2d::Zero();
@@ -31,7 +31,7 @@ struct LedSighting {
 };
 
 // Sightings of one frame's decoded observations (accepted ones only).
-std::vector<LedSighting> sightings_of_frame(TimeNs t_frame, const std::vector<LedObservation>& obs,
+std::vector<TimedLedSighting> sightings_of_frame(TimeNs t_frame, const std::vector<LedObservation>& obs,
                                             const CameraModel& camera);
 
 struct DevicePose {
@@ -72,7 +72,7 @@ struct LedRefineReport {
   std::vector<LedRefinement> leds;
 };
 
-LedRefineReport refine_led_map(const LedMap& map, const CameraModel& camera, const std::vector<LedSighting>& sightings,
+LedRefineReport refine_led_map(const LedMap& map, const CameraModel& camera, const std::vector<TimedLedSighting>& sightings,
                                const PoseLookup& pose_at, const LedRefineOptions& options = {});
 
 struct LedCheckOptions {
@@ -112,7 +112,7 @@ struct LedCheckReport {
   bool checked_positions = false;
 };
 
-LedCheckReport check_led_map(const LedMap& map, const CameraModel& camera, const std::vector<LedSighting>& sightings,
+LedCheckReport check_led_map(const LedMap& map, const CameraModel& camera, const std::vector<TimedLedSighting>& sightings,
                              const PoseLookup* pose_at, const LedCheckOptions& options = {});
 
 }  // namespace luxloc
