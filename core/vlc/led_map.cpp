@@ -138,7 +138,10 @@ LedMap LedMap::load(const std::string& path, const LedMapOptions& options) {
     l.duty = read_number(f, n, label, "duty", false, 0.5);
     l.half_power_angle_deg = read_number(f, n, label, "half_power_angle_deg", false, 60.0);
     l.power = read_number(f, n, label, "power", false, 1.0);
+    l.diameter_known = !f.member(n, "diameter_m", label).empty();
     l.diameter_m = read_number(f, n, label, "diameter_m", false, 0.15);
+    if (l.diameter_known && !(l.diameter_m > 0.0 && l.diameter_m < 5.0))
+      f.fail("diameter_m", label, "must be > 0 and < 5 m (the LED's diameter)");
     leds.push_back(l);
   }
   if (leds.empty()) f.fail("leds", "", "the map holds no LED");
@@ -152,7 +155,9 @@ void LedMap::save(const std::string& path) const {
   for (const Led& l : leds_) {
     fs << "{:" << "id" << l.id << "freq_hz" << l.freq_hz << "x" << l.p_inW.x() << "y" << l.p_inW.y()
        << "z" << l.p_inW.z() << "duty" << l.duty << "half_power_angle_deg" << l.half_power_angle_deg
-       << "power" << l.power << "diameter_m" << l.diameter_m << "}";
+       << "power" << l.power;
+    if (l.diameter_known) fs << "diameter_m" << l.diameter_m;  // a placeholder is not written as if measured
+    fs << "}";
   }
   fs << "]";
 }

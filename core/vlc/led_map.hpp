@@ -18,7 +18,8 @@ struct Led {
   double duty = 0.5;                   // fraction of the period the LED is on
   double half_power_angle_deg = 60.0;  // Lambertian semi-angle phi_1/2 (m = 1 at 60 deg)
   double power = 1.0;                  // relative intensity for the RSS model
-  double diameter_m = 0.15;            // optional, used by the simulator only
+  double diameter_m = 0.15;            // optional: the simulator draws it; the camera height measures with it
+  bool diameter_known = true;          // false: the map file gave none (0.15 is a placeholder)
 };
 
 struct LedMapOptions {
