@@ -19,6 +19,7 @@ struct LedObservation {
   double intensity_sum = 0.0;  // sum of (pixel - background) over the blob: received power for RSS
   double on_fraction = 1.0;    // mean stripe on-fraction over the blob (intensity_sum / on_fraction ~ LED always on)
   double radius_px = 0.0;      // equivalent radius
+  bool radius_from_envelope = false;  // radius_px is the envelope ellipse's (else from the bright-pixel count)
   bool touches_border = false;  // cut by the image border: centre and power are biased
   bool saturated = false;       // clipped pixels in the blob: intensity_sum underestimates the power
   // Empty when accepted, else one of: "too narrow", "overlapping blobs", "too few rows",

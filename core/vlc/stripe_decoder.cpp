@@ -419,6 +419,7 @@ std::vector<LedObservation> StripeDecoder::decode(const cv::Mat& input) const {
     if (trusted) {
       obs.uv = el.centre();
       obs.radius_px = el.radius();
+      obs.radius_from_envelope = true;
       obs.touches_border = el.top() < 0 || el.bottom() > H - 1 || el.centre().x() - el.half_width() < 0 ||
                            el.centre().x() + el.half_width() > W - 1;
     } else {
