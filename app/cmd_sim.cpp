@@ -34,6 +34,7 @@ struct SimArgs {
   std::vector<std::string> blackouts;
   std::string kidnap;  // START:DISTANCE
   bool no_frames = false;
+  bool camera = false;  // frames in a scenario that has no camera (drone, robot)
   std::string frame_format = "jpg";
   std::string fixes;  // RATE_HZ:SIGMA_M
   int png_level = 1;
@@ -152,6 +153,10 @@ int run_sim(const SimArgs& a) {
       throw InputError("--uwb-scale", 0, "--uwb-scale", "scenario '" + a.scenario + "' has no UWB anchors");
     scenario.uwb.scale_sigma = *a.uwb_scale_sigma;
   }
+  if (a.camera) {
+    if (a.no_frames) throw InputError("--camera", 0, "--camera", "--camera and --no-frames contradict each other");
+    scenario.frames = true;  // the scenario's camera (the up-looking webcam) under its LED map
+  }
   const sim::Simulator simulator(std::move(scenario), options);
 
   sim::SessionWriteOptions write;
@@ -193,6 +198,9 @@ void add_sim_command(CLI::App& root, Action& action) {
       ->type_name("START:DISTANCE")
       ->each([](const std::string& s) { (void)parse_kidnap(s); });
   cmd->add_flag("--no-frames", args->no_frames, "write no frames (IMU and truth only)");
+  cmd->add_flag("--camera", args->camera,
+                "render frames in a scenario without a camera too (drone, robot): the up-looking webcam under the "
+                "4 x 3 LED grid, its height following the platform (issue 16: camera-geometry height)");
   cmd->add_option("--fixes", args->fixes,
                   "also write fixes.csv: absolute fixes at RATE_HZ from the truth plus SIGMA_M Gaussian noise per axis")
       ->type_name("RATE_HZ:SIGMA_M")

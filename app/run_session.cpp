@@ -231,6 +231,17 @@ void add_run_options(CLI::App* sub, RunConfig& cfg) {
   sub->add_option("--uwb-nlos-bias", cfg.uwb.noise.nlos_bias_mean_m, "mean positive range bias of a NLOS measurement, m")
       ->check(CLI::Range(0.01, 20.0))
       ->capture_default_str();
+  sub->add_option("--attitude-sigma", cfg.attitude_sigma_rad,
+                  "tilt error of the attitude (roll / pitch, 1 sigma, rad) the camera's bearings and heights allow "
+                  "for (default 0.01; 0.05 with --platform drone: a multirotor's accelerometer sees thrust, not "
+                  "gravity)")
+      ->check(CLI::Range(0.0001, 0.5));
+  sub->add_option("--camera-height", cfg.camera_height,
+                  "estimate the device height from the camera geometry (two identified LEDs in view) and weigh the "
+                  "frames at it; z and sigma_z are then estimated: auto (on for --platform drone), on, off (the "
+                  "nominal device_height_m: a walker's planar case); docs/PLATFORMS.md")
+      ->check(CLI::IsMember({"auto", "on", "off"}))
+      ->capture_default_str();
   sub->add_option("--uwb-height", cfg.uwb_height,
                   "estimate the device height from the UWB ranges: auto (>= 4 anchors, some >= 0.5 m below and "
                   "some above the nominal height), on, off (the nominal device_height_m)")
@@ -462,6 +473,16 @@ RunOutcome run_session(const RunConfig& cfg, std::ostream& log) {
                                              : cfg.vo.enabled          ? "strapdown"
                                                                        : "pdr");
   c.fusion.motion.gait_gate = by_data;
+  // The attitude's tilt error the camera's bearings and heights allow for: a walker's or a
+  // robot's AHRS holds roll / pitch within ~0.01 rad; a multirotor's accelerometer sees its
+  // thrust, not gravity, whenever it accelerates, so its tilt is off by more (sim drone
+  // seed 1, tuning: 0.05 rad rms). 0.05 for a drone: on drone seeds 1-5 with --camera the
+  // share of poses within their 95 % ellipse went 27-53 % (0.01) -> 75-85 % (0.03) ->
+  // 87-98 % (0.05), ATE 0.15-0.20 m either way.
+  c.fusion.attitude_sigma_rad = cfg.attitude_sigma_rad > 0.0 ? cfg.attitude_sigma_rad
+                                : cfg.platform == "drone"     ? 0.05
+                                                              : FusionOptions{}.attitude_sigma_rad;
+  c.fusion.camera_height = cfg.camera_height == "on" || (cfg.camera_height == "auto" && cfg.platform == "drone");
   if (!cfg.imu_calib.empty()) c.fusion.imu_calibration = load_imu_calibration(cfg.imu_calib);
 
   OpenedSources opened = open_run_sources(c);
@@ -639,6 +660,14 @@ void print_report(const RunOutcome& r, std::ostream& log) {
     if (f.camera_yaw_used || f.camera_yaw_rejected)
       log << ", camera yaw " << f.camera_yaw_used << " used / " << f.camera_yaw_rejected << " gated";
     if (std::isfinite(f.sigma_yaw_rad)) log << ", final sigma_yaw " << f.sigma_yaw_rad * 180.0 / 3.141592653589793 << " deg";
+    log << std::setprecision(2) << "\n";
+  }
+  if (f.camera_heights_used || f.camera_heights_gated || std::isfinite(f.final_height_m)) {
+    log << "  height from the camera: " << f.camera_heights_used << " heights used (LED pairs, LED sizes) / "
+        << f.camera_heights_gated << " gated" << (f.camera_height_in_uwb ? " (into the UWB height filter)" : "");
+    if (f.camera_height_reopened) log << ", " << f.camera_height_reopened << " reopened (a run of gated heights)";
+    if (std::isfinite(f.final_height_m))
+      log << std::setprecision(3) << ", final z " << f.final_height_m << " m +/- " << f.final_height_sigma_m;
     log << std::setprecision(2) << "\n";
   }
   if (f.reused_blobs || f.global_starts || f.global_restarts) {

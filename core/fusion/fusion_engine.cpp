@@ -70,9 +70,50 @@ FusionEngine::FusionEngine(const FusionOptions& options, const std::optional<Led
     vlc_ = std::make_unique<VlcFrontend>(*camera, *map, options_, device_height_m_);
     double z = 0.0;
     for (const Led& l : map->leds()) z += l.p_inW.z();
-    ceiling_distance_m_ = std::max(0.5, z / static_cast<double>(map->size()) - device_height_m_);
+    mean_led_z_m_ = z / static_cast<double>(map->size());
+    ceiling_distance_m_ = std::max(0.5, mean_led_z_m_ - device_height_m_);
     focal_px_ = 0.5 * (camera->fx + camera->fy);
+    if (options.camera_height) vertical_.emplace(options.vertical, device_height_m_);
   }
+}
+
+void FusionEngine::camera_height_from(const DecodedFrame& f, const Eigen::Matrix3d& R_BtoW) {
+  if (!vlc_ || !(options_.camera_height || uwb_->estimates_height())) return;  // the nominal height
+  if (options_.camera_height) {
+    const bool in_uwb = uwb_->estimates_height() && uwb_->height_bias().started();
+    CameraHeightOptions o = options_.height_camera;
+    o.pixel_sigma = options_.vlc_pixel_sigma;
+    o.attitude_sigma_rad = options_.attitude_sigma_rad;  // the platform's (run --attitude-sigma)
+    const std::vector<CameraHeight> hs = vlc_->heights(f, R_BtoW, height_now().first, o);
+    for (CameraHeight h : hs) {
+      h.sigma_m *= o.frame_correlation;  // CameraHeightOptions::frame_correlation
+      bool used = false;
+      if (in_uwb) {
+        used = uwb_->observe_height(f.t_obs, h.z_m, h.sigma_m) == HeightBiasFilter::Outcome::used;
+      } else if (vertical_) {
+        const std::uint64_t reopened = vertical_->stats().reopened;
+        used = vertical_->update(f.t_obs, h.z_m, h.sigma_m) == VerticalFilter::Outcome::used;
+        stats_.camera_height_reopened += vertical_->stats().reopened - reopened;
+      }
+      ++(used ? stats_.camera_heights_used : stats_.camera_heights_gated);
+      stats_.camera_height_in_uwb = in_uwb;
+    }
+    if (hs.empty() && vertical_ && !in_uwb) vertical_->predict(f.t_obs);
+  }
+  // The frame is weighed at the learnt height (the camera's or the ranges'); the gate and
+  // the pose's sigma floor scale with the distance to the ceiling.
+  const double z = height_now().first;
+  vlc_->set_device_height_m(z);
+  ceiling_distance_m_ = std::max(0.5, mean_led_z_m_ - z);
+}
+
+std::pair<double, double> FusionEngine::height_now() const {
+  // The UWB height filter once it runs (the camera's heights go into it then), else the
+  // camera's own, else the nominal height.
+  if (uwb_->estimates_height() && (uwb_->height_bias().started() || !vertical_))
+    return {uwb_->height_m(), uwb_->height_sigma_m()};
+  if (vertical_) return {vertical_->height_m(), vertical_->height_sigma_m()};
+  return {device_height_m_, std::numeric_limits<double>::quiet_NaN()};
 }
 
 FusionEngine::~FusionEngine() = default;
@@ -130,6 +171,7 @@ void FusionEngine::finish(std::vector<PoseEstimate>& out) {
   }
   stats_.heading_transfers = heading_feedback_.transfers();
   stats_.heading_learnt_rate_rps = heading_feedback_.learnt_rate_rps();
+  if (options_.camera_height && vlc_) std::tie(stats_.final_height_m, stats_.final_height_sigma_m) = height_now();
   if (filter_->initialized()) stats_.sigma_yaw_rad = heading_state().sigma_rad;
 }
 
@@ -284,6 +326,7 @@ void FusionEngine::apply_frame(const DecodedFrame& f) {
     return;
   }
   const Eigen::Matrix3d R_BtoW = ahrs_.R_BtoW();
+  camera_height_from(f, R_BtoW);  // issue 16 part 3: the frame is weighed at the height it measured
   // Frequency reuse without a start: no LED of a frequency of its own in view, so no
   // loose fix can start the filter; the particles start everywhere (global localisation).
   if (pf_ && !pf_->initialized() && options_.tight_coupling && vlc_->reuses_frequencies()) {
@@ -692,9 +735,10 @@ void FusionEngine::emit(TimeNs t, std::vector<PoseEstimate>& out, bool force) {
   PoseEstimate p;
   p.t = t;
   p.p_BinW = {e.p.x(), e.p.y(), device_height_m_};
-  if (uwb_->estimates_height()) {  // issue 16 part 3: z learnt from the ranges
-    p.p_BinW.z() = uwb_->height_m();
-    p.sigma_z = uwb_->height_sigma_m();
+  if (uwb_->estimates_height() || vertical_) {  // issue 16 part 3: z learnt from the ranges or the camera
+    const auto [z, sigma_z] = height_now();
+    p.p_BinW.z() = z;
+    p.sigma_z = sigma_z;
   }
   if (ahrs_.initialized()) {
     // The fused yaw: the AHRS's plus the filter's offset (issue 11); its sigma.

@@ -118,6 +118,7 @@ class FusionEngine final : public FusionStage {
   std::unique_ptr<PlanarFilter> filter_;
   ParticleFilter* pf_ = nullptr;  // filter_ when it is a particle filter (tight coupling)
   double ceiling_distance_m_ = 2.0;
+  double mean_led_z_m_ = 3.0;  // the map's mean LED height
   double focal_px_ = 500.0;
   int consecutive_gated_ = 0;
   int consecutive_unexplained_ = 0;
@@ -127,6 +128,13 @@ class FusionEngine final : public FusionStage {
   double vlc_focal_px() const { return focal_px_; }
   std::unique_ptr<VlcFrontend> vlc_;
   double device_height_m_;
+  // Issue 16 part 3: the height from the camera (FusionOptions::camera_height) when no UWB
+  // height filter carries z. Fed by camera_height_from(); read by height_now().
+  std::optional<VerticalFilter> vertical_;
+  void camera_height_from(const DecodedFrame& f, const Eigen::Matrix3d& R_BtoW);
+  // The device height now (learnt by the camera or the ranges, else nominal) and its sigma
+  // (NaN: nominal, not estimated).
+  std::pair<double, double> height_now() const;
   std::deque<DecodedFrame> pending_frames_;
   TimeNs t_filter_ = 0;      // time the filter state refers to
   bool have_imu_ = false;

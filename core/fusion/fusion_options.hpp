@@ -5,8 +5,10 @@
 
 #include "core/common/session_config.hpp"
 #include "core/filter/particle_filter.hpp"
+#include "core/filter/vertical_filter.hpp"
 #include "core/fusion/heading_feedback.hpp"
 #include "core/fusion/motion_source.hpp"
+#include "core/vlc/camera_height.hpp"
 #include "core/imu/imu_calibration.hpp"
 #include "core/imu/mahony_filter.hpp"
 
@@ -70,6 +72,13 @@ struct FusionOptions {
   double vlc_pixel_sigma = 1.0;
   // Attitude uncertainty (1 sigma, rad) folded into the VLC fix covariance.
   double attitude_sigma_rad = 0.01;
+  // Issue 16 part 3: estimate the device height from the camera geometry (two identified
+  // LEDs in view, core/vlc/camera_height.hpp) and weigh the frames at it; the pose's z and
+  // sigma_z are then estimated. Off: the nominal height (the planar pedestrian case).
+  // With a UWB height filter running, the camera's heights go into its z (one height).
+  bool camera_height = false;
+  VerticalFilterOptions vertical;
+  CameraHeightOptions height_camera;
   // Sigma of fixes.csv rows that carry none (m).
   double default_fix_sigma_m = 0.2;
   // Poses are written at most at this rate (Hz) on the IMU's timeline; 0 = every IMU sample.

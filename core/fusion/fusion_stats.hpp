@@ -57,6 +57,14 @@ struct FusionStats {
     std::size_t particles = 0;  // the set it started with (KLD-sampled, ParticleFilter::search_kld)
   };
   std::vector<GlobalSearch> global_searches;
+  // Height from the camera geometry (issue 16 part 3, FusionOptions::camera_height): heights
+  // measured (a frame's best LED pair and best LED size), used / gated by the height state;
+  // its final value and sigma (NaN: not estimated from the camera); whether they went into
+  // the UWB height filter (else the camera's own VerticalFilter).
+  std::uint64_t camera_heights_used = 0, camera_heights_gated = 0, camera_height_reopened = 0;
+  double final_height_m = std::numeric_limits<double>::quiet_NaN();
+  double final_height_sigma_m = std::numeric_limits<double>::quiet_NaN();
+  bool camera_height_in_uwb = false;
 };
 
 }  // namespace luxloc

@@ -99,6 +99,34 @@ ReprojectionLikelihood VlcFrontend::resolved_likelihood(const DecodedFrame& fram
 }
 
 const LedMap& VlcFrontend::map() const { return state_->map; }
+void VlcFrontend::set_device_height_m(double z_m) {
+  if (std::isfinite(z_m)) state_->device_height_m = z_m;
+}
+double VlcFrontend::device_height_m() const { return state_->device_height_m; }
+
+std::vector<CameraHeight> VlcFrontend::heights(const DecodedFrame& frame, const Eigen::Matrix3d& R_BtoW,
+                                               double z_hint_m, const CameraHeightOptions& o) const {
+  const State& s = *state_;
+  std::vector<CameraHeight> out;
+  if (!frame.impl) return out;
+  // Known LEDs only (a reused frequency's copy is not known before the position is), and
+  // no border blobs (their centres and sizes are biased).
+  if (std::optional<CameraHeight> h = camera_height(sightings_from(frame.impl->accepted, s.map), s.camera, R_BtoW, z_hint_m, o))
+    out.push_back(*h);
+  std::optional<CameraHeight> best;
+  for (const LedObservation& ob : frame.impl->accepted) {
+    // The size only from an envelope fit: a blob's bright-pixel count depends on its stripes.
+    if (ob.led_index < 0 || ob.touches_border || !ob.radius_from_envelope ||
+        ob.led_index >= static_cast<int>(s.map.size()))
+      continue;
+    const Led& l = s.map.leds()[static_cast<std::size_t>(ob.led_index)];
+    if (!l.diameter_known) continue;
+    const std::optional<CameraHeight> d = disc_height(DiscSighting{l.p_inW, ob.uv, ob.radius_px, l.diameter_m}, s.camera, R_BtoW, o);
+    if (d && (!best || d->sigma_m < best->sigma_m)) best = d;
+  }
+  if (best) out.push_back(*best);
+  return out;
+}
 bool VlcFrontend::reuses_frequencies() const { return state_->map.reuses_frequencies(); }
 
 double VlcFrontend::capture_radius(int klass) const { return state_->index.capture_radius(klass); }

@@ -12,6 +12,7 @@
 #include "core/fusion/fusion_options.hpp"
 #include "core/fusion/heading_feedback.hpp"
 #include "core/fusion/reprojection_likelihood.hpp"
+#include "core/vlc/camera_height.hpp"
 #include "core/vlc/camera_model.hpp"
 #include "core/vlc/led_map.hpp"
 #include "core/vlc/led_observation.hpp"
@@ -64,6 +65,16 @@ class VlcFrontend {
                                              const std::optional<PoseHint>& hint, std::size_t* dropped = nullptr) const;
   // The map index of LED i of the frame's likelihood(), once resolved (for yaw_offset).
   const LedMap& map() const;
+  // The device height the frames are weighed at (issue 16 part 3: a learnt height, when the
+  // camera or the ranges estimate it; the nominal height otherwise).
+  void set_device_height_m(double z_m);
+  double device_height_m() const;
+  // The body heights the frame's identified LEDs (of a frequency of their own, not cut by
+  // the border) measure under R_BtoW (its yaw does not matter): the best pair's (two LEDs'
+  // angle) and the best single LED's apparent size (only where the map gives its
+  // diameter_m); z_hint_m picks a pair's root. Empty when neither applies.
+  std::vector<CameraHeight> heights(const DecodedFrame& frame, const Eigen::Matrix3d& R_BtoW, double z_hint_m,
+                                    const CameraHeightOptions& options) const;
   bool reuses_frequencies() const;
   // Half the class's reuse distance (LedClassIndex::capture_radius): a pose known to
   // better than that names the copy.

@@ -131,6 +131,27 @@ HeightBiasFilter::Outcome HeightBiasFilter::update(int id, const Eigen::Vector3d
   return out;
 }
 
+HeightBiasFilter::Outcome HeightBiasFilter::update_height(double z_m, double sigma_m) {
+  if (!t_ || !options_.estimate_height || !std::isfinite(z_m) || !(sigma_m > 0.0) || !std::isfinite(sigma_m))
+    return Outcome::skipped;
+  const Eigen::Index n = x_.size();
+  const double R = sigma_m * sigma_m;
+  const double S = P_(2, 2) + R;
+  const double nu = z_m - x_(2);
+  if (std::abs(nu) > options_.gate_sigma * std::sqrt(S)) {
+    ++stats_.heights_gated;
+    return nu > 0.0 ? Outcome::gated_long : Outcome::gated_short;
+  }
+  // H = e_z; Joseph form.
+  const Eigen::VectorXd K = P_.col(2) / S;
+  x_ += K * nu;
+  Eigen::MatrixXd I_KH = Eigen::MatrixXd::Identity(n, n);
+  I_KH.col(2) -= K;
+  P_ = I_KH * P_ * I_KH.transpose() + R * K * K.transpose();
+  ++stats_.heights_used;
+  return Outcome::used;
+}
+
 double HeightBiasFilter::height_m() const { return options_.estimate_height && t_ ? x_(2) : nominal_height_m_; }
 
 double HeightBiasFilter::height_sigma_m() const { return std::sqrt(std::max(0.0, P_(2, 2))); }

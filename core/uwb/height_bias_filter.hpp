@@ -81,6 +81,7 @@ struct HeightBiasOptions {
 struct HeightBiasStats {
   std::uint64_t used = 0, gated_long = 0, gated_short = 0;
   std::uint64_t bias_reopened = 0;  // runs of short ranges that reopened an anchor's bias
+  std::uint64_t heights_used = 0, heights_gated = 0;  // update_height
 };
 
 class HeightBiasFilter {
@@ -99,6 +100,10 @@ class HeightBiasFilter {
   // One range (calibration removed) to anchor `id` at a_inW, LOS noise range_sigma_m.
   Outcome update(int id, const Eigen::Vector3d& a_inW, double range_m, double range_sigma_m);
 
+  // A direct height of the body (the camera geometry, core/vlc/camera_height.hpp) at the
+  // filter's time: one height state for every source. Gated at gate_sigma; skipped unless
+  // the height is estimated and the filter started.
+  Outcome update_height(double z_m, double sigma_m);
   bool enabled() const { return options_.estimate_height || options_.estimate_bias; }
   // The nominal height until started or without height estimation.
   double height_m() const;

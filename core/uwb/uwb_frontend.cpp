@@ -79,6 +79,12 @@ void UwbFrontend::observe(const UwbSample& s, const PlanarEstimate& e) {
   height_bias_.update(s.anchor, *a, anchors_.corrected_range(s.anchor, s.range_m), options_.noise.range_sigma_m);
 }
 
+HeightBiasFilter::Outcome UwbFrontend::observe_height(TimeNs t, double z_m, double sigma_m) {
+  if (!height_bias_.started()) return HeightBiasFilter::Outcome::skipped;
+  height_bias_.predict(t);
+  return height_bias_.update_height(z_m, sigma_m);
+}
+
 std::optional<UwbRangeLikelihood> UwbFrontend::likelihood(const UwbSample& s) {
   ++stats_.samples;
   if (!std::isfinite(s.range_m) || s.range_m < 0.0 || std::isinf(s.aoa_rad)) {

@@ -62,6 +62,9 @@ class UwbFrontend {
   // Feeds the sample's range to the height / bias filter (started at the planar filter's
   // first estimate e). Range-only samples of known anchors.
   void observe(const UwbSample& s, const PlanarEstimate& e);
+  // A height measured by another sensor (the camera geometry) into the same height state,
+  // at t (after the filter started; used / gated counted in its stats).
+  HeightBiasFilter::Outcome observe_height(TimeNs t, double z_m, double sigma_m);
   // Copies the height / bias filter's counts and final states into stats() (end of a run).
   void summarize_online();
 
