@@ -120,6 +120,9 @@ TEST_CASE("luxloc sim: bad usage exits 2 with a useful message", "[sim]") {
   CHECK(run_luxloc("sim --out '" + dir.string() + "' --blackout 3:-1").exit_code == 2);
   CHECK(run_luxloc("sim --out '" + dir.string() + "' --duration -2").exit_code == 2);
   CHECK(run_luxloc("sim --duration 2").exit_code == 2);  // --out is required
+  const auto contradiction = run_luxloc("sim --out '" + dir.string() + "' --scenario drone --camera --no-frames");
+  CHECK(contradiction.exit_code == 2);
+  CHECK(contradiction.output.find("--camera") != std::string::npos);
   CHECK(std::filesystem::is_empty(dir));
 }
 
