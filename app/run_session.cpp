@@ -482,6 +482,7 @@ RunOutcome run_session(const RunConfig& cfg, std::ostream& log) {
   c.fusion.attitude_sigma_rad = cfg.attitude_sigma_rad > 0.0 ? cfg.attitude_sigma_rad
                                 : cfg.platform == "drone"     ? 0.05
                                                               : FusionOptions{}.attitude_sigma_rad;
+  if (cfg.platform == "drone") c.fusion.vlc_frame_correlation = 2.0;  // FusionOptions::vlc_frame_correlation
   c.fusion.camera_height = cfg.camera_height == "on" || (cfg.camera_height == "auto" && cfg.platform == "drone");
   if (!cfg.imu_calib.empty()) c.fusion.imu_calibration = load_imu_calibration(cfg.imu_calib);
 

@@ -1,5 +1,6 @@
 #include "core/fusion/vlc_frontend.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -68,12 +69,15 @@ ReprojectionLikelihood VlcFrontend::likelihood(const DecodedFrame& frame, const 
   const double sigma_px2 = s.options.vlc_pixel_sigma * s.options.vlc_pixel_sigma +
                            (f * s.options.attitude_sigma_rad) * (f * s.options.attitude_sigma_rad);
   std::vector<ReprojectionTerm> terms;
+  // FusionOptions::vlc_frame_correlation: frames whose errors persist count as fewer frames.
+  const double k = std::max(1.0, s.options.vlc_frame_correlation);
+  const double inv = 1.0 / (sigma_px2 * k * k);
   if (frame.impl)
     for (const LedObservation& o : frame.impl->accepted) {
       if (o.led_index >= 0)
-        terms.push_back({s.map.leds()[static_cast<std::size_t>(o.led_index)].p_inW, o.uv, 1.0 / sigma_px2, -1});
+        terms.push_back({s.map.leds()[static_cast<std::size_t>(o.led_index)].p_inW, o.uv, inv, -1});
       else
-        terms.push_back({Eigen::Vector3d::Zero(), o.uv, 1.0 / sigma_px2, o.freq_class});
+        terms.push_back({Eigen::Vector3d::Zero(), o.uv, inv, o.freq_class});
     }
   return ReprojectionLikelihood(s.camera, R_BtoW, s.device_height_m, std::move(terms), 5.0 * std::sqrt(sigma_px2),
                                 ReuseAssociation{&s.map, &s.index});

@@ -48,16 +48,17 @@ TEST_CASE("Drone under LEDs: the camera measures the height, and the position im
     CHECK(off.eval.z_rmse_m >= 0.3);  // the nominal 1.1 m against 0.5-1.7 m
     CHECK(on.eval.z_consistency >= 0.85);
     CHECK(on.eval.rmse_m < 0.8 * off.eval.rmse_m);  // the frames are weighed at the right height
-    CHECK(on.eval.consistency >= 0.8);
+    CHECK(on.eval.consistency >= 0.85);
   }
   SECTION("camera and UWB: one height state") {
     const Result both = run(session, dir / "both.csv", "--platform drone");
     WARN("with UWB: z RMSE " << both.eval.z_rmse_m << " m, ATE " << both.eval.rmse_m << " m");
     CHECK(both.log.find("(into the UWB height filter)") != std::string::npos);
     CHECK(both.eval.z_rmse_m <= 0.08);
-    // The drone's tilt error biases its bearings by dz x 0.05 rad for seconds: with UWB in
-    // the run the camera costs a few cm (seed 36: UWB alone 0.069 m, both 0.094 m;
-    // docs/PLATFORMS.md "Height from the camera"). Bounded here, not hidden.
-    CHECK(both.eval.rmse_m <= 0.12);
+    // The drone's tilt error biases its bearings by dz x 0.05 rad for seconds; its frames are
+    // weighed at twice their pixel sigma (FusionOptions::vlc_frame_correlation), so the
+    // camera does not pull UWB off (seed 36: UWB alone 0.069 m, both 0.069 m; 0.094 m with
+    // the frames weighed as independent).
+    CHECK(both.eval.rmse_m <= 0.08);
   }
 }
