@@ -752,12 +752,13 @@ void FusionEngine::emit(TimeNs t, std::vector<PoseEstimate>& out, bool force) {
   // 0.3-0.6 deg on the simulator's IMUs), not the per-frame noise the likelihood assumes
   // of it: it moves every VLC fix by dz x tilt the same way, so no spread of the filter can
   // hold it. While the camera anchors the position (a VLC correction within 1 s) the
-  // reported sigma carries dz x attitude_sigma_rad besides the filter's spread. Found on
-  // floor-plan seed 21 (0.5 / 0.6 deg roll / pitch bias: 37 % of the poses within their
-  // 95 % ellipse, 1.4 cm sigma against 3.7 cm error); the filter itself is unchanged.
+  // reported sigma carries FusionOptions::tilt_floor_share x dz x attitude_sigma_rad besides
+  // the filter's spread. Found on floor-plan seed 21 (0.5 / 0.6 deg roll / pitch bias: 37 %
+  // of the poses within their 95 % ellipse, 1.4 cm sigma against 3.7 cm error); the filter
+  // itself is unchanged.
   double floor2 = 0.0;
   if (vlc_ && t_last_vlc_ && t >= *t_last_vlc_ && ns_to_seconds(t - *t_last_vlc_) < 1.0) {
-    const double floor = vlc_ceiling_distance() * options_.attitude_sigma_rad;
+    const double floor = options_.tilt_floor_share * vlc_ceiling_distance() * options_.attitude_sigma_rad;
     floor2 = floor * floor;
   }
   p.sigma_x = std::sqrt(std::max(0.0, e.cov_p(0, 0)) + floor2);
