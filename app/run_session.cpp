@@ -671,6 +671,15 @@ void print_report(const RunOutcome& r, std::ostream& log) {
       log << std::setprecision(3) << ", final z " << f.final_height_m << " m +/- " << f.final_height_sigma_m;
     log << std::setprecision(2) << "\n";
   }
+  // The nominal device height against the camera's: a misstated device_height_m moves every
+  // VLC fix by (error) x tan(the LED's angle), and the user cannot see why. Warned when the
+  // camera disagrees by more than 0.1 m and 3 sigma over at least 30 heights.
+  if (f.height_check_used >= 30 && std::isfinite(f.height_check_m) &&
+      std::abs(f.height_check_m - f.nominal_height_m) > std::max(0.1, 3.0 * f.height_check_sigma_m))
+    log << std::setprecision(3) << "luxloc: warning: the camera measures the device at " << f.height_check_m
+        << " m +/- " << f.height_check_sigma_m << " (" << f.height_check_used << " heights), not at the nominal "
+        << f.nominal_height_m << " m (device_height_m / --device-height): correct it, or run with --camera-height on\n"
+        << std::setprecision(2);
   if (f.reused_blobs || f.global_starts || f.global_restarts) {
     log << "  frequency reuse: " << f.reused_blobs << " blobs of reused frequencies (each particle chose the copy); "
         << f.global_starts << " global starts, " << f.global_restarts << " global restarts (lost track)";

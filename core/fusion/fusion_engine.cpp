@@ -73,12 +73,27 @@ FusionEngine::FusionEngine(const FusionOptions& options, const std::optional<Led
     mean_led_z_m_ = z / static_cast<double>(map->size());
     ceiling_distance_m_ = std::max(0.5, mean_led_z_m_ - device_height_m_);
     focal_px_ = 0.5 * (camera->fx + camera->fy);
-    if (options.camera_height) vertical_.emplace(options.vertical, device_height_m_);
+    if (options.camera_height)
+      vertical_.emplace(options.vertical, device_height_m_);
+    else
+      height_check_.emplace(options.vertical, device_height_m_);
   }
 }
 
 void FusionEngine::camera_height_from(const DecodedFrame& f, const Eigen::Matrix3d& R_BtoW) {
-  if (!vlc_ || !(options_.camera_height || uwb_->estimates_height())) return;  // the nominal height
+  if (!vlc_) return;
+  if (height_check_ && !uwb_->estimates_height()) {
+    // The nominal height is used, but is it right? The camera's heights go into a filter of
+    // their own that nothing reads until the summary (FusionStats::height_check_*).
+    CameraHeightOptions o = options_.height_camera;
+    o.pixel_sigma = options_.vlc_pixel_sigma;
+    o.attitude_sigma_rad = options_.attitude_sigma_rad;
+    for (CameraHeight h : vlc_->heights(f, R_BtoW, height_check_->height_m(), o)) {
+      h.sigma_m *= o.frame_correlation;
+      if (height_check_->update(f.t_obs, h.z_m, h.sigma_m) == VerticalFilter::Outcome::used) ++stats_.height_check_used;
+    }
+  }
+  if (!(options_.camera_height || uwb_->estimates_height())) return;  // the nominal height
   if (options_.camera_height) {
     const bool in_uwb = uwb_->estimates_height() && uwb_->height_bias().started();
     CameraHeightOptions o = options_.height_camera;
@@ -172,6 +187,11 @@ void FusionEngine::finish(std::vector<PoseEstimate>& out) {
   stats_.heading_transfers = heading_feedback_.transfers();
   stats_.heading_learnt_rate_rps = heading_feedback_.learnt_rate_rps();
   if (options_.camera_height && vlc_) std::tie(stats_.final_height_m, stats_.final_height_sigma_m) = height_now();
+  if (height_check_ && stats_.height_check_used > 0) {
+    stats_.height_check_m = height_check_->height_m();
+    stats_.height_check_sigma_m = height_check_->height_sigma_m();
+    stats_.nominal_height_m = device_height_m_;
+  }
   if (filter_->initialized()) stats_.sigma_yaw_rad = heading_state().sigma_rad;
 }
 

@@ -131,6 +131,8 @@ class FusionEngine final : public FusionStage {
   // Issue 16 part 3: the height from the camera (FusionOptions::camera_height) when no UWB
   // height filter carries z. Fed by camera_height_from(); read by height_now().
   std::optional<VerticalFilter> vertical_;
+  // Without it, the same filter as a check of the nominal height (read at the end only).
+  std::optional<VerticalFilter> height_check_;
   void camera_height_from(const DecodedFrame& f, const Eigen::Matrix3d& R_BtoW);
   // The device height now (learnt by the camera or the ranges, else nominal) and its sigma
   // (NaN: nominal, not estimated).

@@ -65,6 +65,12 @@ struct FusionStats {
   double final_height_m = std::numeric_limits<double>::quiet_NaN();
   double final_height_sigma_m = std::numeric_limits<double>::quiet_NaN();
   bool camera_height_in_uwb = false;
+  // With the nominal height in use (no camera height, no UWB height): what the camera's
+  // heights say it is (the summary warns when they disagree); NaN without any.
+  std::uint64_t height_check_used = 0;
+  double height_check_m = std::numeric_limits<double>::quiet_NaN();
+  double height_check_sigma_m = std::numeric_limits<double>::quiet_NaN();
+  double nominal_height_m = std::numeric_limits<double>::quiet_NaN();
 };
 
 }  // namespace luxloc

@@ -3,6 +3,7 @@
 // geometry. Seed 36 is not among the tuning seeds (1-5 for this feature).
 #include <catch2/catch.hpp>
 #include <filesystem>
+#include <regex>
 #include <string>
 
 #include "core/eval/trajectory_io.hpp"
@@ -76,6 +77,13 @@ TEST_CASE("Walker whose device height is misstated: --camera-height on measures 
   WARN("told 1.3 m: ATE " << on.eval.rmse_m << " m with the camera's height, " << off.eval.rmse_m
                           << " m without; z RMSE " << on.eval.z_rmse_m << " m");
   CHECK(off.log.find("height from the camera") == std::string::npos);  // a walker's default stays planar
+  // ...but the run says the nominal height is off, and what the camera measures instead.
+  std::smatch m;
+  REQUIRE(std::regex_search(off.log, m, std::regex(R"(warning: the camera measures the device at ([0-9.]+) m)")));
+  CHECK(std::stod(m[1]) == Approx(1.0).margin(0.05));
+  CHECK(on.log.find("warning: the camera measures") == std::string::npos);
+  const Result right = run(session, dir / "right.csv", "");  // session.yaml's 1.0 m: no warning
+  CHECK(right.log.find("warning: the camera measures") == std::string::npos);
   CHECK(on.eval.z_rmse_m <= 0.05);
   CHECK(on.eval.rmse_m <= 0.04);
   CHECK(off.eval.rmse_m >= 2.0 * on.eval.rmse_m);
