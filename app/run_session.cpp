@@ -236,6 +236,13 @@ void add_run_options(CLI::App* sub, RunConfig& cfg) {
                   "for (default 0.01; 0.05 with --platform drone: a multirotor's accelerometer sees thrust, not "
                   "gravity)")
       ->check(CLI::Range(0.0001, 0.5));
+  sub->add_flag("--no-innovation-bias", cfg.no_innovation_bias,
+                "report the filter's own spread as sigma_x / sigma_y, without the persistent bias of the fixes' "
+                "innovations (docs/MOTION.md \"Honest sigma\"; for comparisons)");
+  sub->add_option("--innovation-bias-tau", cfg.fusion.innovation_bias.time_constant_s,
+                  "memory of the fixes' mean innovation that widens the reported sigma, s")
+      ->check(CLI::Range(0.1, 600.0))
+      ->capture_default_str();
   sub->add_option("--camera-height", cfg.camera_height,
                   "estimate the device height from the camera geometry (two identified LEDs in view) and weigh the "
                   "frames at it; z and sigma_z are then estimated: auto (on for --platform drone), on, off (the "
@@ -482,6 +489,7 @@ RunOutcome run_session(const RunConfig& cfg, std::ostream& log) {
   c.fusion.attitude_sigma_rad = cfg.attitude_sigma_rad > 0.0 ? cfg.attitude_sigma_rad
                                 : cfg.platform == "drone"     ? 0.05
                                                               : FusionOptions{}.attitude_sigma_rad;
+  if (cfg.no_innovation_bias) c.fusion.innovation_bias.enabled = false;
   if (cfg.platform == "drone") c.fusion.vlc_frame_correlation = 2.0;  // FusionOptions::vlc_frame_correlation
   c.fusion.camera_height = cfg.camera_height == "on" || (cfg.camera_height == "auto" && cfg.platform == "drone");
   if (!cfg.imu_calib.empty()) c.fusion.imu_calibration = load_imu_calibration(cfg.imu_calib);

@@ -28,6 +28,7 @@ struct RunConfig {
   // Height from the camera geometry (issue 16 part 3): auto (on for --platform drone), on, off.
   std::string camera_height = "auto";
   double attitude_sigma_rad = 0.0;  // 0: the platform's default (run --attitude-sigma)
+  bool no_innovation_bias = false;  // run --no-innovation-bias (FusionOptions::innovation_bias)
   std::string uwb_height = "auto", uwb_bias = "auto";  // auto | on | off (issue 16: learnt while running)
   std::string uwb_scale = "off";  // on | off: a per-anchor range scale beside the learnt bias
   std::vector<double> uwb_online_psd;                  // empty: HeightBiasOptions' defaults

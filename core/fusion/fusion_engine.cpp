@@ -48,6 +48,7 @@ FusionEngine::FusionEngine(const FusionOptions& options, const std::optional<Led
       ahrs_(options.ahrs),
       heading_feedback_(options.heading_feedback),
       motion_(effective_motion(options)),
+      innovation_bias_(options.innovation_bias),
       vo_options_(vo) {
   device_height_m_ = std::isfinite(options.device_height_m) ? options.device_height_m
                      : std::isfinite(session.device_height_m) ? session.device_height_m
@@ -479,6 +480,7 @@ void FusionEngine::apply_frame(const DecodedFrame& f) {
     }
     if (std::optional<PositionMeasurement> m = vlc_->fix(f, fused_R_BtoW())) {
       pf_->initialize(m->z, m->R * 4.0);
+      innovation_bias_.reset();
       ++stats_.reinitializations;
       t_last_fix_ = f.t_obs;
     }
@@ -584,6 +586,8 @@ void FusionEngine::on_fix(const FixSample& s, std::vector<PoseEstimate>& out) {
 void FusionEngine::apply_position(const PositionMeasurement& m) {
   const bool was_initialized = filter_->initialized();
   if (!was_initialized) t_filter_ = have_imu_ ? t_imu_ : m.t;
+  const std::optional<PlanarEstimate> before =
+      was_initialized ? std::optional<PlanarEstimate>(filter_->estimate()) : std::nullopt;
   const CorrectionResult r = filter_->correct(m);
   if (r.accepted) {
     ++stats_.fixes_accepted;
@@ -591,7 +595,17 @@ void FusionEngine::apply_position(const PositionMeasurement& m) {
   } else {
     ++stats_.fixes_gated;
   }
+  if (r.reinitialized) {
+    innovation_bias_.reset();  // a new track: the old one's lag says nothing of it
+  } else if (r.accepted && before) {
+    note_innovation(m.t, m, *before);
+  }
   if (r.reinitialized && was_initialized) ++stats_.reinitializations;
+}
+
+void FusionEngine::note_innovation(TimeNs t, const PositionMeasurement& m, const PlanarEstimate& before) {
+  if (!before.valid) return;
+  innovation_bias_.add(t, m.z - before.p, before.cov_p + m.R);
 }
 
 std::optional<PositionMeasurement> FusionEngine::uwb_start_agreed(const PositionMeasurement& fix) {
@@ -687,6 +701,7 @@ void FusionEngine::on_uwb(const UwbSample& s, std::vector<PoseEstimate>& out) {
     ++st.disagreements;
     if (++uwb_disagreements_ >= uwb_->options().max_consecutive_disagreements && fix) {
       pf_->initialize(fix->z, fix->R * 4.0);
+      innovation_bias_.reset();
       ++st.reinitializations;
       ++stats_.reinitializations;
       uwb_disagreements_ = 0;
@@ -695,6 +710,8 @@ void FusionEngine::on_uwb(const UwbSample& s, std::vector<PoseEstimate>& out) {
     }
   } else {
     uwb_disagreements_ = 0;
+    // A range (+ bearing) that agrees: its fix's innovation, for the reported sigma.
+    if (fix) note_innovation(s.t, *fix, e);
   }
   if (pf_->weigh(*lik) && pf_->normalize_and_resample()) {
     ++st.weighed;
@@ -702,6 +719,7 @@ void FusionEngine::on_uwb(const UwbSample& s, std::vector<PoseEstimate>& out) {
     t_last_fix_ = s.t;
   } else if (fix) {  // every particle underflowed: recover at the fix
     pf_->initialize(fix->z, fix->R * 4.0);
+    innovation_bias_.reset();
     ++st.reinitializations;
     ++stats_.reinitializations;
   } else {
@@ -781,8 +799,11 @@ void FusionEngine::emit(TimeNs t, std::vector<PoseEstimate>& out, bool force) {
     const double floor = options_.tilt_floor_share * vlc_ceiling_distance() * options_.attitude_sigma_rad;
     floor2 = floor * floor;
   }
-  p.sigma_x = std::sqrt(std::max(0.0, e.cov_p(0, 0)) + floor2);
-  p.sigma_y = std::sqrt(std::max(0.0, e.cov_p(1, 1)) + floor2);
+  // The fixes' persistent innovation (FusionOptions::innovation_bias): a lag the filter's
+  // spread does not know of.
+  const Eigen::Vector2d lag2 = innovation_bias_.extra_variance();
+  p.sigma_x = std::sqrt(std::max(0.0, e.cov_p(0, 0)) + floor2 + lag2.x());
+  p.sigma_y = std::sqrt(std::max(0.0, e.cov_p(1, 1)) + floor2 + lag2.y());
   p.n_eff = e.n_eff;
   p.leds = last_leds_;
   p.motion = motion_regime_name(motion_.regime());

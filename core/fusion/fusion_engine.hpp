@@ -153,6 +153,10 @@ class FusionEngine final : public FusionStage {
   std::optional<TimeNs> t_last_reinit_;  // time of the first pose after the last restart  // sample time at which the filter first initialised
   std::unique_ptr<UwbFrontend> uwb_;
   int uwb_disagreements_ = 0;
+  // The fixes' innovations before they weighed (FusionOptions::innovation_bias): their
+  // persistent mean widens the reported sigma. Cleared when the filter restarts.
+  InnovationBias innovation_bias_;
+  void note_innovation(TimeNs t, const PositionMeasurement& m, const PlanarEstimate& before);
   bool walker_ = false;  // a gait was confirmed (pdr): the yaw offset reverts by walker_bounded_rad
   // The latest UWB fixes before the filter started (UwbOptions::start_agreeing_fixes).
   std::deque<PositionMeasurement> uwb_start_fixes_;

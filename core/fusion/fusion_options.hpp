@@ -7,6 +7,7 @@
 #include "core/filter/particle_filter.hpp"
 #include "core/filter/vertical_filter.hpp"
 #include "core/fusion/heading_feedback.hpp"
+#include "core/fusion/innovation_bias.hpp"
 #include "core/fusion/motion_source.hpp"
 #include "core/vlc/camera_height.hpp"
 #include "core/imu/imu_calibration.hpp"
@@ -97,6 +98,10 @@ struct FusionOptions {
   bool camera_height = false;
   VerticalFilterOptions vertical;
   CameraHeightOptions height_camera;
+  // Reported sigma_x / sigma_y carry the persistent bias of the absolute fixes' innovations
+  // (fixes.csv, UWB fixes, loose VLC fixes; core/fusion/innovation_bias.hpp): the state and
+  // the weighing are unchanged. Off with run --no-innovation-bias (for comparisons).
+  InnovationBiasOptions innovation_bias;
   // Sigma of fixes.csv rows that carry none (m).
   double default_fix_sigma_m = 0.2;
   // Poses are written at most at this rate (Hz) on the IMU's timeline; 0 = every IMU sample.
