@@ -28,6 +28,7 @@ struct BenchPfArgs {
   int threads = 0;
   int steps = 200;
   std::string filter = "pf";
+  bool genetic_as_published = false;  // gpf without GeneticOptions::preserve_spread
   std::uint64_t seed = 1;
   // gaussian: a 5 cm position fix; reprojection: the LEDs in view as known LEDs;
   // association: the same blobs as reused frequency classes, each particle choosing its copy.
@@ -74,6 +75,7 @@ int run_bench_reprojection(const BenchPfArgs& a, int threads) {
   o.particles = a.particles;
   o.seed = a.seed;
   o.policy = a.filter == "gpf" ? ResamplingPolicy::Genetic : ResamplingPolicy::Copy;
+  o.genetic.preserve_spread = !a.genetic_as_published;
   o.resample_every_correction = true;
   ParticleFilter pf(o);
   const double dt = 0.01, radius = 2.0, omega = 0.5;
@@ -177,6 +179,7 @@ int run_bench_pf(const BenchPfArgs& a) {
   if (a.weigh != "gaussian") return run_bench_reprojection(a, threads);
   FilterSettings settings;
   settings.name = a.filter;
+  settings.pf.genetic.preserve_spread = !a.genetic_as_published;
   settings.pf.particles = a.particles;
   settings.pf.seed = a.seed;
   settings.pf.resample_every_correction = true;  // every step includes a resampling
@@ -254,6 +257,8 @@ void add_bench_command(CLI::App& root, Action& action) {
   pf->add_option("--filter", args->filter, "pf (SIR, systematic) | gpf (genetic resampling)")
       ->check(CLI::IsMember({"pf", "gpf"}))
       ->capture_default_str();
+  pf->add_flag("--genetic-as-published", args->genetic_as_published,
+               "gpf: the seed's genetic step alone, without restoring the spread it removes");
   pf->add_option("--seed", args->seed, "random seed")->capture_default_str();
   pf->add_option("--weigh", args->weigh,
                  "gaussian (a 5 cm position fix) | reprojection (the LEDs in view, known) | association (the same "

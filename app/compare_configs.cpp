@@ -22,6 +22,7 @@ const std::vector<CompareConfig>& compare_configs() {
        [](RunConfig& c) {
          c.fusion.filter = "gpf";
          c.coupling = "loose";
+         c.fusion.pf.genetic.preserve_spread = false;  // the seed's step as published (run --genetic-as-published)
        }},
       {"ekf-c", "seed C: EKF [p, v], IMU prediction",
        [](RunConfig& c) {

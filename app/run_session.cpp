@@ -316,6 +316,10 @@ void add_particle_filter_options(CLI::App* sub, ParticleFilterOptions& pf) {
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str()
       ->group(g);
+  sub->add_flag_callback("--genetic-as-published", [&pf] { pf.genetic.preserve_spread = false; },
+                "gpf: the seed's genetic step alone, without restoring the position spread it removes (an "
+                "overconfident filter; docs/FILTERS.md)")
+      ->group(g);
   sub->add_option("--mutation-p", pf.genetic.mutation_probability, "gpf: mutation probability (B.5c)")
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str()

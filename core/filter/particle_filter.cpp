@@ -714,14 +714,125 @@ bool ParticleFilter::normalize_and_resample() {
 void ParticleFilter::resample_now() {
   if (options_.policy == ResamplingPolicy::Genetic) {
     const std::uint64_t step = ++step_;
+    // The weighted posterior the step starts from (GeneticOptions::preserve_spread).
+    const bool preserve = options_.genetic.preserve_spread && !uniform_;
+    const PlanarEstimate before = preserve ? estimate() : PlanarEstimate{};
+    const std::vector<double> var_before = preserve ? component_variances(true) : std::vector<double>{};
     genetic_stats_ = genetic_resample(set_, log_w_, log_w_max_, options_.genetic, options_.seed, step);
     reset_weights_uniform();
     inject_random(step);
     compute_moments();
+    if (preserve && before.valid) restore_spread(before.cov_p, var_before, step);
   } else {
     resample_copy();
   }
   ++resamples_;
+}
+
+std::vector<float*> ParticleFilter::spread_components() {
+  std::vector<float*> c{set_.vx.data(), set_.vy.data()};
+  if (set_.gait) c.insert(c.end(), {set_.ks.data(), set_.dpsi.data(), set_.kturn.data()});
+  if (set_.heading) c.push_back(set_.yaw.data());
+  return c;
+}
+
+std::vector<double> ParticleFilter::component_variances(bool weighted) {
+  const std::vector<float*> comps = spread_components();
+  const std::size_t n = set_.size(), k = comps.size();
+  if (n == 0) return std::vector<double>(k, 0.0);
+  // Per chunk: sum w, sum w d, sum w d^2 with d about particle 0's value (no cancellation
+  // at float precision); the chunks summed in order (deterministic). Blocks of kBlock with
+  // the weighing's own weights (weights_into: no exp per particle).
+  const std::size_t stride = 1 + 2 * k;
+  std::vector<double> part(particle_chunks(n) * stride, 0.0);
+  std::vector<float> ref(k);
+  for (std::size_t j = 0; j < k; ++j) ref[j] = comps[j][0];
+  for_each_particle_chunk(n, [&](std::size_t c, std::size_t b, std::size_t e) {
+    double* acc = part.data() + c * stride;
+    alignas(32) float wbuf[kBlock];
+    for (std::size_t blk = b; blk < e; blk += kBlock) {
+      const std::size_t len = std::min(kBlock, e - blk);
+      if (weighted) {
+        weights_into(blk, len, wbuf);
+      } else {
+        std::fill_n(wbuf, len, 1.0f);
+      }
+      float sw = 0.0f;
+      for (std::size_t q = 0; q < len; ++q) sw += wbuf[q];
+      acc[0] += sw;
+      for (std::size_t j = 0; j < k; ++j) {
+        const float* v = comps[j] + blk;
+        const float r = ref[j];
+        float s1 = 0.0f, s2 = 0.0f;
+        for (std::size_t q = 0; q < len; ++q) {
+          const float d = v[q] - r;
+          s1 += wbuf[q] * d;
+          s2 += wbuf[q] * d * d;
+        }
+        acc[1 + 2 * j] += s1;
+        acc[2 + 2 * j] += s2;
+      }
+    }
+  });
+  std::vector<double> sum(stride, 0.0);
+  for (std::size_t c = 0; c < particle_chunks(n); ++c)
+    for (std::size_t j = 0; j < stride; ++j) sum[j] += part[c * stride + j];
+  std::vector<double> var(k, 0.0);
+  if (!(sum[0] > 0.0)) return var;
+  for (std::size_t j = 0; j < k; ++j) {
+    const double m = sum[1 + 2 * j] / sum[0];
+    var[j] = std::max(0.0, sum[2 + 2 * j] / sum[0] - m * m);
+  }
+  return var;
+}
+
+void ParticleFilter::restore_spread(const Eigen::Matrix2d& cov_before, const std::vector<double>& var_before,
+                                    std::uint64_t step) {
+  if (!estimate_.valid || !cov_before.allFinite()) return;
+  // Position: Q = cov_before - cov_now, its negative eigenvalues dropped; x += L n, L L^T = Q.
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov_before - estimate_.cov_p);
+  if (es.info() != Eigen::Success) return;
+  const Eigen::Vector2d lambda = es.eigenvalues().cwiseMax(0.0);
+  const Eigen::Matrix2d L = es.eigenvectors() * lambda.cwiseSqrt().asDiagonal();
+  const float l00 = static_cast<float>(L(0, 0)), l01 = static_cast<float>(L(0, 1));
+  const float l10 = static_cast<float>(L(1, 0)), l11 = static_cast<float>(L(1, 1));
+  // The other components, one by one: the standard deviation each lost.
+  const std::vector<float*> comps = spread_components();
+  const std::vector<double> var_now = component_variances(false);
+  std::vector<float*> jitter;
+  std::vector<float> lost;
+  for (std::size_t j = 0; j < comps.size() && j < var_before.size(); ++j) {
+    const double d = var_before[j] - var_now[j];
+    if (d > 0.0 && std::isfinite(d)) {
+      jitter.push_back(comps[j]);
+      lost.push_back(static_cast<float>(std::sqrt(d)));
+    }
+  }
+  const std::size_t nc = 2 + jitter.size();  // normals per particle
+  for_each_particle_chunk(set_.size(), [&](std::size_t c, std::size_t b, std::size_t e) {
+    // Its own streams (0x5B5B5 + chunk), apart from the propagation's and the genetic step's.
+    LaneRng rng(options_.seed, step, 0x5B5B5ull + c);
+    std::vector<float> nrm(LaneRng::round_up(nc * kBlock, 16));
+    for (std::size_t blk = b; blk < e; blk += kBlock) {
+      const std::size_t len = std::min(kBlock, e - blk);
+      rng.fill_normal(nrm.data(), nrm.size());
+      float* x = set_.x.data() + blk;
+      float* y = set_.y.data() + blk;
+      const float* n0 = nrm.data();
+      const float* n1 = nrm.data() + kBlock;
+      for (std::size_t q = 0; q < len; ++q) {
+        x[q] += l00 * n0[q] + l01 * n1[q];
+        y[q] += l10 * n0[q] + l11 * n1[q];
+      }
+      for (std::size_t j = 0; j < jitter.size(); ++j) {
+        float* v = jitter[j] + blk;
+        const float* nj = nrm.data() + (2 + j) * kBlock;
+        const float sj = lost[j];
+        for (std::size_t q = 0; q < len; ++q) v[q] += sj * nj[q];
+      }
+    }
+  });
+  compute_moments();
 }
 
 void ParticleFilter::inject_random(std::uint64_t step) {

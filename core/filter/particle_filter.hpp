@@ -192,6 +192,12 @@ class ParticleFilter final : public PlanarFilter {
   void resample_now();
   void resample_copy();
   void inject_random(std::uint64_t step);
+  // GeneticOptions::preserve_spread: roughen the set by N(0, cov_before - cov_now) in
+  // position, and each other state component (velocity, gait, yaw offset) by the variance
+  // it lost. spread_components() lists them; component_variances() their (weighted) variances.
+  void restore_spread(const Eigen::Matrix2d& cov_before, const std::vector<double>& var_before, std::uint64_t step);
+  std::vector<float*> spread_components();
+  std::vector<double> component_variances(bool weighted);
   // Systematic resampling: chunk boundaries of the scaled cumulative weight (u: the offset).
   std::vector<double> systematic_bounds(std::size_t children, std::uint64_t step, double& u) const;
   // Ancestors of parent chunk c's children into ancestors_ from kb + c (one sink slot per

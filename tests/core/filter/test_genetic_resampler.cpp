@@ -148,3 +148,54 @@ TEST_CASE("Genetic PF keeps more distinct particles than systematic resampling a
   REQUIRE(err_sir < 0.3);
   REQUIRE(err_gpf < 1.2 * err_sir);
 }
+
+TEST_CASE("Genetic PF keeps the posterior's spread: its sigma covers its error", "[filter][sigma]") {
+  // The same sparse-fix tracking. The seed's genetic step pulls decayed particles 70 % of
+  // the way to excellent ones and weighs all equally: the spread shrinks at every fix and
+  // the filter believes itself. GeneticOptions::preserve_spread roughens the set by the
+  // covariance the step removed.
+  const auto run = [](bool preserve, double& inside, double& rmse, double& sigma) {
+    FilterSettings s;
+    s.name = "gpf";
+    s.pf.particles = 2000;
+    s.pf.roughening_m = 0.0;
+    s.pf.accel_noise_psd = 0.05;
+    s.pf.resample_every_correction = true;
+    s.pf.genetic.preserve_spread = preserve;
+    auto f = make_planar_filter(s);
+    FastRng noise(9), walk(13);
+    f->initialize({0, 0}, Eigen::Matrix2d::Identity() * 0.04);
+    Eigen::Vector2d truth(0, 0), v(0.3, 0.0);
+    int n = 0, in = 0;
+    double se = 0.0, ss = 0.0;
+    for (int k = 1; k <= 120 * 100; ++k) {  // 120 s at 100 Hz; the device turns slowly
+      v = Eigen::Rotation2Dd(0.002 * walk.normal()) * v;
+      truth += 0.01 * v;
+      f->predict(MotionInput{0.01, {0, 0}, false});
+      if (k % 100 != 0) continue;
+      PositionMeasurement m;
+      m.z = truth + 0.3 * Eigen::Vector2d(noise.normal(), noise.normal());
+      m.R = Eigen::Matrix2d::Identity() * 0.09;
+      f->correct(m);
+      if (k < 1000) continue;
+      const PlanarEstimate e = f->estimate();
+      const Eigen::Vector2d d = e.p - truth;
+      in += d.dot(e.cov_p.inverse() * d) <= 5.991;
+      se += d.squaredNorm();
+      ss += std::sqrt(0.5 * e.cov_p.trace());
+      ++n;
+    }
+    inside = static_cast<double>(in) / n;
+    rmse = std::sqrt(se / n);
+    sigma = ss / n;
+  };
+  double in_seed = 0, err_seed = 0, sig_seed = 0, in_kept = 0, err_kept = 0, sig_kept = 0;
+  run(false, in_seed, err_seed, sig_seed);
+  run(true, in_kept, err_kept, sig_kept);
+  WARN("within the 95 % ellipse: as published " << 100 * in_seed << " % (sigma " << sig_seed << " m, RMSE " << err_seed
+                                                << " m), spread kept " << 100 * in_kept << " % (sigma " << sig_kept
+                                                << " m, RMSE " << err_kept << " m)");
+  CHECK(in_kept >= 0.85);
+  CHECK(in_kept > in_seed + 0.1);
+  CHECK(err_kept <= 1.1 * err_seed);  // no worse a track for it
+}
