@@ -675,6 +675,11 @@ void print_report(const RunOutcome& r, std::ostream& log) {
     if (std::isfinite(f.sigma_yaw_rad)) log << ", final sigma_yaw " << f.sigma_yaw_rad * 180.0 / 3.141592653589793 << " deg";
     log << std::setprecision(2) << "\n";
   }
+  if (f.poses_lag_widened && f.poses)
+    log << "  sigma: " << std::setprecision(1) << 100.0 * static_cast<double>(f.poses_lag_widened) / static_cast<double>(f.poses)
+        << " % of the poses mostly widened by the fixes' persistent innovation (the filter lagging its fixes, "
+           "docs/MOTION.md \"Honest sigma\"), by up to "
+        << std::setprecision(2) << f.max_lag_sigma_m << " m\n";
   if (f.camera_heights_used || f.camera_heights_gated || std::isfinite(f.final_height_m)) {
     log << "  height from the camera: " << f.camera_heights_used << " heights used (LED pairs, LED sizes) / "
         << f.camera_heights_gated << " gated" << (f.camera_height_in_uwb ? " (into the UWB height filter)" : "");

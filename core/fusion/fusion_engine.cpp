@@ -802,6 +802,8 @@ void FusionEngine::emit(TimeNs t, std::vector<PoseEstimate>& out, bool force) {
   // The fixes' persistent innovation (FusionOptions::innovation_bias): a lag the filter's
   // spread does not know of.
   const Eigen::Vector2d lag2 = innovation_bias_.extra_variance();
+  if (lag2.x() > e.cov_p(0, 0) || lag2.y() > e.cov_p(1, 1)) ++stats_.poses_lag_widened;  // the lag dominates
+  stats_.max_lag_sigma_m = std::max(stats_.max_lag_sigma_m, std::sqrt(lag2.maxCoeff()));
   p.sigma_x = std::sqrt(std::max(0.0, e.cov_p(0, 0)) + floor2 + lag2.x());
   p.sigma_y = std::sqrt(std::max(0.0, e.cov_p(1, 1)) + floor2 + lag2.y());
   p.n_eff = e.n_eff;

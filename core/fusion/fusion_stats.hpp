@@ -71,6 +71,11 @@ struct FusionStats {
   double height_check_m = std::numeric_limits<double>::quiet_NaN();
   double height_check_sigma_m = std::numeric_limits<double>::quiet_NaN();
   double nominal_height_m = std::numeric_limits<double>::quiet_NaN();
+  // Honest sigma (FusionOptions::innovation_bias): poses whose sigma_x or sigma_y carried
+  // more of the fixes' persistent innovation (a filter lagging its fixes) than of the
+  // filter's own spread, and the largest such term (m).
+  std::uint64_t poses_lag_widened = 0;
+  double max_lag_sigma_m = 0.0;
 };
 
 }  // namespace luxloc
