@@ -317,7 +317,7 @@ void add_particle_filter_options(CLI::App* sub, ParticleFilterOptions& pf) {
       ->capture_default_str()
       ->group(g);
   sub->add_flag_callback("--genetic-as-published", [&pf] { pf.genetic.preserve_spread = false; },
-                "gpf: the seed's genetic step alone, without restoring the position spread it removes (an "
+                "gpf: the seed's genetic step alone, without restoring the spread it removes (an "
                 "overconfident filter; docs/FILTERS.md)")
       ->group(g);
   sub->add_option("--mutation-p", pf.genetic.mutation_probability, "gpf: mutation probability (B.5c)")
