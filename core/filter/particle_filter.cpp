@@ -717,12 +717,12 @@ void ParticleFilter::resample_now() {
     // The weighted posterior the step starts from (GeneticOptions::preserve_spread).
     const bool preserve = options_.genetic.preserve_spread && !uniform_;
     const PlanarEstimate before = preserve ? estimate() : PlanarEstimate{};
-    const std::vector<double> var_before = preserve ? component_variances(true) : std::vector<double>{};
+    const ComponentMoments moments_before = preserve ? component_moments(true) : ComponentMoments{};
     genetic_stats_ = genetic_resample(set_, log_w_, log_w_max_, options_.genetic, options_.seed, step);
     reset_weights_uniform();
     inject_random(step);
     compute_moments();
-    if (preserve && before.valid) restore_spread(before.cov_p, var_before, step);
+    if (preserve && before.valid) restore_spread(before, moments_before, step);
   } else {
     resample_copy();
   }
@@ -736,10 +736,11 @@ std::vector<float*> ParticleFilter::spread_components() {
   return c;
 }
 
-std::vector<double> ParticleFilter::component_variances(bool weighted) {
+ParticleFilter::ComponentMoments ParticleFilter::component_moments(bool weighted) {
   const std::vector<float*> comps = spread_components();
   const std::size_t n = set_.size(), k = comps.size();
-  if (n == 0) return std::vector<double>(k, 0.0);
+  ComponentMoments out{std::vector<double>(k, 0.0), std::vector<double>(k, 0.0)};
+  if (n == 0) return out;
   // Per chunk: sum w, sum w d, sum w d^2 with d about particle 0's value (no cancellation
   // at float precision); the chunks summed in order (deterministic). Blocks of kBlock with
   // the weighing's own weights (weights_into: no exp per particle).
@@ -777,36 +778,42 @@ std::vector<double> ParticleFilter::component_variances(bool weighted) {
   std::vector<double> sum(stride, 0.0);
   for (std::size_t c = 0; c < particle_chunks(n); ++c)
     for (std::size_t j = 0; j < stride; ++j) sum[j] += part[c * stride + j];
-  std::vector<double> var(k, 0.0);
-  if (!(sum[0] > 0.0)) return var;
+  if (!(sum[0] > 0.0)) return out;
   for (std::size_t j = 0; j < k; ++j) {
     const double m = sum[1 + 2 * j] / sum[0];
-    var[j] = std::max(0.0, sum[2 + 2 * j] / sum[0] - m * m);
+    out.mean[j] = static_cast<double>(ref[j]) + m;
+    out.var[j] = std::max(0.0, sum[2 + 2 * j] / sum[0] - m * m);
   }
-  return var;
+  return out;
 }
 
-void ParticleFilter::restore_spread(const Eigen::Matrix2d& cov_before, const std::vector<double>& var_before,
+void ParticleFilter::restore_spread(const PlanarEstimate& before, const ComponentMoments& moments_before,
                                     std::uint64_t step) {
-  if (!estimate_.valid || !cov_before.allFinite()) return;
-  // Position: Q = cov_before - cov_now, its negative eigenvalues dropped; x += L n, L L^T = Q.
+  const Eigen::Matrix2d& cov_before = before.cov_p;
+  if (!estimate_.valid || !cov_before.allFinite() || !before.p.allFinite()) return;
+  // Mean: the decayed particles keep 1 - alpha of their old place, so the equal-weight set
+  // sits between the prior and the weighted posterior (the filter lags its measurements):
+  // every particle moves by the weighted mean before less the mean now.
+  const Eigen::Vector2d shift = before.p - estimate_.p;
+  const float sx = static_cast<float>(shift.x()), sy = static_cast<float>(shift.y());
+  // Position spread: Q = cov_before - cov_now, negative eigenvalues dropped; x += L n, L L^T = Q.
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov_before - estimate_.cov_p);
   if (es.info() != Eigen::Success) return;
   const Eigen::Vector2d lambda = es.eigenvalues().cwiseMax(0.0);
   const Eigen::Matrix2d L = es.eigenvectors() * lambda.cwiseSqrt().asDiagonal();
   const float l00 = static_cast<float>(L(0, 0)), l01 = static_cast<float>(L(0, 1));
   const float l10 = static_cast<float>(L(1, 0)), l11 = static_cast<float>(L(1, 1));
-  // The other components, one by one: the standard deviation each lost.
+  // The other components, one by one: the mean shift and the standard deviation each lost.
   const std::vector<float*> comps = spread_components();
-  const std::vector<double> var_now = component_variances(false);
+  const ComponentMoments now = component_moments(false);
   std::vector<float*> jitter;
-  std::vector<float> lost;
-  for (std::size_t j = 0; j < comps.size() && j < var_before.size(); ++j) {
-    const double d = var_before[j] - var_now[j];
-    if (d > 0.0 && std::isfinite(d)) {
-      jitter.push_back(comps[j]);
-      lost.push_back(static_cast<float>(std::sqrt(d)));
-    }
+  std::vector<float> lost, moved;
+  for (std::size_t j = 0; j < comps.size() && j < moments_before.var.size(); ++j) {
+    const double d = moments_before.var[j] - now.var[j];
+    const double m = moments_before.mean[j] - now.mean[j];
+    jitter.push_back(comps[j]);
+    lost.push_back(d > 0.0 && std::isfinite(d) ? static_cast<float>(std::sqrt(d)) : 0.0f);
+    moved.push_back(std::isfinite(m) ? static_cast<float>(m) : 0.0f);
   }
   const std::size_t nc = 2 + jitter.size();  // normals per particle
   for_each_particle_chunk(set_.size(), [&](std::size_t c, std::size_t b, std::size_t e) {
@@ -821,14 +828,14 @@ void ParticleFilter::restore_spread(const Eigen::Matrix2d& cov_before, const std
       const float* n0 = nrm.data();
       const float* n1 = nrm.data() + kBlock;
       for (std::size_t q = 0; q < len; ++q) {
-        x[q] += l00 * n0[q] + l01 * n1[q];
-        y[q] += l10 * n0[q] + l11 * n1[q];
+        x[q] += sx + l00 * n0[q] + l01 * n1[q];
+        y[q] += sy + l10 * n0[q] + l11 * n1[q];
       }
       for (std::size_t j = 0; j < jitter.size(); ++j) {
         float* v = jitter[j] + blk;
         const float* nj = nrm.data() + (2 + j) * kBlock;
-        const float sj = lost[j];
-        for (std::size_t q = 0; q < len; ++q) v[q] += sj * nj[q];
+        const float sj = lost[j], mj = moved[j];
+        for (std::size_t q = 0; q < len; ++q) v[q] += mj + sj * nj[q];
       }
     }
   });

@@ -192,12 +192,17 @@ class ParticleFilter final : public PlanarFilter {
   void resample_now();
   void resample_copy();
   void inject_random(std::uint64_t step);
-  // GeneticOptions::preserve_spread: roughen the set by N(0, cov_before - cov_now) in
-  // position, and each other state component (velocity, gait, yaw offset) by the variance
-  // it lost. spread_components() lists them; component_variances() their (weighted) variances.
-  void restore_spread(const Eigen::Matrix2d& cov_before, const std::vector<double>& var_before, std::uint64_t step);
+  // GeneticOptions::preserve_spread: give the equal-weight set after a genetic step the
+  // weighted posterior's mean and spread again: shift every component by the mean it lost,
+  // roughen the position by N(0, cov_before - cov_now) and each other component (velocity,
+  // gait, yaw offset) by the variance it lost. spread_components() lists those components;
+  // component_moments() their (weighted) means and variances.
+  struct ComponentMoments {
+    std::vector<double> mean, var;  // per spread_components() entry
+  };
+  void restore_spread(const PlanarEstimate& before, const ComponentMoments& moments_before, std::uint64_t step);
   std::vector<float*> spread_components();
-  std::vector<double> component_variances(bool weighted);
+  ComponentMoments component_moments(bool weighted);
   // Systematic resampling: chunk boundaries of the scaled cumulative weight (u: the offset).
   std::vector<double> systematic_bounds(std::size_t children, std::uint64_t step, double& u) const;
   // Ancestors of parent chunk c's children into ancestors_ from kb + c (one sink slot per
