@@ -152,8 +152,8 @@ TEST_CASE("Genetic PF keeps more distinct particles than systematic resampling a
 TEST_CASE("Genetic PF keeps the posterior's spread: its sigma covers its error", "[filter][sigma]") {
   // The same sparse-fix tracking. The seed's genetic step pulls decayed particles 70 % of
   // the way to excellent ones and weighs all equally: the spread shrinks at every fix and
-  // the filter believes itself. GeneticOptions::preserve_spread roughens the set by the
-  // covariance the step removed.
+  // the filter believes itself. GeneticOptions::preserve_spread gives the set the weighted
+  // posterior's mean and covariance back after each step.
   const auto run = [](bool preserve, double& inside, double& rmse, double& sigma) {
     FilterSettings s;
     s.name = "gpf";
