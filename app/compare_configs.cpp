@@ -24,6 +24,8 @@ const std::vector<CompareConfig>& compare_configs() {
          c.coupling = "loose";
          c.fusion.pf.genetic.preserve_spread = false;  // the seed's step as published (run --genetic-as-published)
        }},
+      {"gpf", "genetic PF keeping mean and spread (--filter gpf)",
+       [](RunConfig& c) { c.fusion.filter = "gpf"; }},
       {"ekf-c", "seed C: EKF [p, v], IMU prediction",
        [](RunConfig& c) {
          c.fusion.filter = "ekf";

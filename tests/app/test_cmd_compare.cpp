@@ -40,16 +40,16 @@ TEST_CASE("luxloc compare: seeds' configurations on one session, one table", "[f
                             "' --keep '" + (dir / "poses").string() + "'");
   INFO(r.output);
   REQUIRE(r.exit_code == 0);
-  for (const char* name : {"imu-only", "fixes-only", "pf-a", "gpf-b", "ekf-c", "best"}) {
+  for (const char* name : {"imu-only", "fixes-only", "pf-a", "gpf-b", "gpf", "ekf-c", "best"}) {
     CHECK(r.output.find(std::string("\n") + name + " ") != std::string::npos);
     CHECK(std::filesystem::file_size(dir / "poses" / (std::string(name) + ".csv")) > 1000);
   }
   const auto ate = read_ate(csv);
-  REQUIRE(ate.size() == 6);
+  REQUIRE(ate.size() == 7);
   // Fix noise is 0.3 m per axis (0.42 m radial rms): the fused filters must do better than
   // the raw fixes and than the fixes alone through a constant-velocity filter; the default
   // beats dead reckoning alone (pedestrian dead reckoning drifts ~0.2 m in these 40 s).
-  for (const char* fused : {"pf-a", "gpf-b", "ekf-c", "best"}) {
+  for (const char* fused : {"pf-a", "gpf-b", "gpf", "ekf-c", "best"}) {
     INFO(fused);
     CHECK(ate.at(fused) < 0.42);
     CHECK(ate.at(fused) < ate.at("fixes-only"));
