@@ -480,7 +480,6 @@ void FusionEngine::apply_frame(const DecodedFrame& f) {
     }
     if (std::optional<PositionMeasurement> m = vlc_->fix(f, fused_R_BtoW())) {
       pf_->initialize(m->z, m->R * 4.0);
-      innovation_bias_.reset();
       ++stats_.reinitializations;
       t_last_fix_ = f.t_obs;
     }
@@ -595,17 +594,23 @@ void FusionEngine::apply_position(const PositionMeasurement& m) {
   } else {
     ++stats_.fixes_gated;
   }
-  if (r.reinitialized) {
-    innovation_bias_.reset();  // a new track: the old one's lag says nothing of it
-  } else if (r.accepted && before) {
-    note_innovation(m.t, m, *before);
-  }
+  if (r.accepted && !r.reinitialized && before) note_innovation(m.t, m, *before);
   if (r.reinitialized && was_initialized) ++stats_.reinitializations;
 }
 
 void FusionEngine::note_innovation(TimeNs t, const PositionMeasurement& m, const PlanarEstimate& before) {
   if (!before.valid) return;
-  innovation_bias_.add(t, m.z - before.p, before.cov_p + m.R);
+  innovation_bias().add(t, m.z - before.p, before.cov_p + m.R);
+}
+
+InnovationBias& FusionEngine::innovation_bias() {
+  // Every restart counts in stats_.reinitializations: a new track, whose lag the old one's
+  // innovations say nothing of.
+  if (stats_.reinitializations != innovation_reinits_) {
+    innovation_reinits_ = stats_.reinitializations;
+    innovation_bias_.reset();
+  }
+  return innovation_bias_;
 }
 
 std::optional<PositionMeasurement> FusionEngine::uwb_start_agreed(const PositionMeasurement& fix) {
@@ -701,7 +706,6 @@ void FusionEngine::on_uwb(const UwbSample& s, std::vector<PoseEstimate>& out) {
     ++st.disagreements;
     if (++uwb_disagreements_ >= uwb_->options().max_consecutive_disagreements && fix) {
       pf_->initialize(fix->z, fix->R * 4.0);
-      innovation_bias_.reset();
       ++st.reinitializations;
       ++stats_.reinitializations;
       uwb_disagreements_ = 0;
@@ -719,7 +723,6 @@ void FusionEngine::on_uwb(const UwbSample& s, std::vector<PoseEstimate>& out) {
     t_last_fix_ = s.t;
   } else if (fix) {  // every particle underflowed: recover at the fix
     pf_->initialize(fix->z, fix->R * 4.0);
-    innovation_bias_.reset();
     ++st.reinitializations;
     ++stats_.reinitializations;
   } else {
@@ -801,7 +804,7 @@ void FusionEngine::emit(TimeNs t, std::vector<PoseEstimate>& out, bool force) {
   }
   // The fixes' persistent innovation (FusionOptions::innovation_bias): a lag the filter's
   // spread does not know of.
-  const Eigen::Vector2d lag2 = innovation_bias_.extra_variance();
+  const Eigen::Vector2d lag2 = innovation_bias().extra_variance();
   if (lag2.x() > e.cov_p(0, 0) || lag2.y() > e.cov_p(1, 1)) ++stats_.poses_lag_widened;  // the lag dominates
   stats_.max_lag_sigma_m = std::max(stats_.max_lag_sigma_m, std::sqrt(lag2.maxCoeff()));
   p.sigma_x = std::sqrt(std::max(0.0, e.cov_p(0, 0)) + floor2 + lag2.x());

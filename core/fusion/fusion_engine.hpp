@@ -154,8 +154,11 @@ class FusionEngine final : public FusionStage {
   std::unique_ptr<UwbFrontend> uwb_;
   int uwb_disagreements_ = 0;
   // The fixes' innovations before they weighed (FusionOptions::innovation_bias): their
-  // persistent mean widens the reported sigma. Cleared when the filter restarts.
+  // persistent mean widens the reported sigma. Read through innovation_bias(), which clears
+  // it after any restart (stats_.reinitializations moved since innovation_reinits_).
   InnovationBias innovation_bias_;
+  std::uint64_t innovation_reinits_ = 0;
+  InnovationBias& innovation_bias();
   void note_innovation(TimeNs t, const PositionMeasurement& m, const PlanarEstimate& before);
   bool walker_ = false;  // a gait was confirmed (pdr): the yaw offset reverts by walker_bounded_rad
   // The latest UWB fixes before the filter started (UwbOptions::start_agreeing_fixes).
