@@ -44,20 +44,27 @@ void check_same_track(const Both& b) {
   }
 }
 
-}  // namespace
-
-TEST_CASE("Honest sigma: a walker lagging its 1 Hz fixes is reported with the lag", "[e2e][sigma]") {
-  const auto dir = test::scratch_dir("innovation_bias_fixes");
-  const auto session = dir / "walk";
-  const auto sim = run_luxloc("sim --scenario walk --no-frames --fixes 1:0.5 --walker random --imu-grade consumer --seed 59 --out '" +
-                              session.string() + "'");
+// Simulates a session (luxloc sim SIM_ARGS), runs it with and without the lag term, reports
+// the figures and checks that only the sigma differs.
+Both simulate_and_run_both(const std::string& name, const std::string& sim_args) {
+  const auto dir = test::scratch_dir("innovation_bias_" + name);
+  const auto session = dir / "session";
+  const auto sim = run_luxloc("sim " + sim_args + " --out '" + session.string() + "'");
   INFO(sim.output);
   REQUIRE(sim.exit_code == 0);
   const Both b = run_both(dir, session);
-  WARN("fixes: within the 95 % ellipse " << 100.0 * b.on.consistency << " % (without the lag term "
-                                         << 100.0 * b.off.consistency << " %), mean sigma " << b.on.mean_sigma_m
-                                         << " m (" << b.off.mean_sigma_m << "), ATE " << b.on.rmse_m << " m");
+  WARN(name << ": within the 95 % ellipse " << 100.0 * b.on.consistency << " % (without the lag term "
+            << 100.0 * b.off.consistency << " %), mean sigma " << b.on.mean_sigma_m << " m (" << b.off.mean_sigma_m
+            << "), ATE " << b.on.rmse_m << " m");
   check_same_track(b);
+  return b;
+}
+
+}  // namespace
+
+TEST_CASE("Honest sigma: a walker lagging its 1 Hz fixes is reported with the lag", "[e2e][sigma]") {
+  const Both b = simulate_and_run_both(
+      "fixes", "--scenario walk --no-frames --fixes 1:0.5 --walker random --imu-grade consumer --seed 59");
   CHECK(b.on.consistency >= b.off.consistency + 0.02);  // measured 93.3 -> 97.2 %
   CHECK(b.on.consistency >= 0.95);
   CHECK(b.on.consistency <= 0.995);                  // not inflated into uselessness...
@@ -65,17 +72,7 @@ TEST_CASE("Honest sigma: a walker lagging its 1 Hz fixes is reported with the la
 }
 
 TEST_CASE("Honest sigma: one UWB station's fixes show the filter's lag", "[e2e][sigma][uwb]") {
-  const auto dir = test::scratch_dir("innovation_bias_uwb");
-  const auto session = dir / "uwb";
-  const auto sim = run_luxloc("sim --scenario uwb --walker random --imu-grade consumer --seed 9 --out '" +
-                              session.string() + "'");
-  INFO(sim.output);
-  REQUIRE(sim.exit_code == 0);
-  const Both b = run_both(dir, session);
-  WARN("UWB: within the 95 % ellipse " << 100.0 * b.on.consistency << " % (without the lag term "
-                                       << 100.0 * b.off.consistency << " %), mean sigma " << b.on.mean_sigma_m
-                                       << " m (" << b.off.mean_sigma_m << "), ATE " << b.on.rmse_m << " m");
-  check_same_track(b);
+  const Both b = simulate_and_run_both("uwb", "--scenario uwb --walker random --imu-grade consumer --seed 9");
   CHECK(b.on.consistency >= b.off.consistency + 0.02);  // measured 89.6 -> 93.0 %
   CHECK(b.on.consistency >= 0.90);
   CHECK(b.on.mean_sigma_m <= 1.0 * b.on.rmse_m);
