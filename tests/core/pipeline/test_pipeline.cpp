@@ -158,10 +158,24 @@ struct SlowStage : FusionStage {
   std::atomic<int>* produced = nullptr;
   int fused = 0, most_ahead = 0;
   void process(const Sample&, std::vector<PoseEstimate>&) override {
-    // 8 ms: slow enough that the source (a 1 MiB frame each) gets ahead even under TSan.
-    std::this_thread::sleep_for(std::chrono::milliseconds(8));
+    // At the first sample, wait until the source has stopped producing (blocked by the
+    // budget, or done): how far ahead it gets must not depend on how fast this machine
+    // (or TSan, or a loaded CI box) lets it run. A per-sample sleep alone did not: on a
+    // loaded TSan run the source was only 1 frame ahead.
+    if (fused == 0) wait_for_source_stall();
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
     ++fused;
     most_ahead = std::max(most_ahead, produced->load() - fused);
+  }
+  // Stalled: no new frame for 300 ms (20 s at most, so a broken budget cannot hang the test).
+  void wait_for_source_stall() const {
+    int last = produced->load(), still_ms = 0;
+    for (int waited_ms = 0; still_ms < 300 && waited_ms < 20'000; waited_ms += 10) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      const int now = produced->load();
+      still_ms = now == last ? still_ms + 10 : 0;
+      last = now;
+    }
   }
 };
 
