@@ -14,6 +14,8 @@
 #   calib      PDR after calibration: lights for 30 s (the fixes calibrate the gait), then
 #              all lights off to the end (60 s): end error as % of the distance walked in the dark
 # (calib and fixes are not run by default: CASES="vlc blackout uwb pdr calib fixes" adds them)
+# ROWS=FILE appends each session's figures to FILE (case, seed, ATE, p95, max, within 95 %, yaw
+# p95, extra), to find the session behind a worst figure.
 set -euo pipefail
 first=${1:-101}; last=${2:-130}; luxloc=${3:-build/luxloc}; shift $(( $# < 3 ? $# : 3 )) || true
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
@@ -57,6 +59,7 @@ yaw = math.degrees(e["yaw_p95_rad"]) if "yaw_p95_rad" in e else float("nan")
 print(seed, e["ate_rmse_m"], e["p95_m"], e["max_m"], e.get("consistency", float("nan")), yaw, extra)
 PY
   done
+  [ -n "${ROWS:-}" ] && sed "s/^/$case /" "$tmp/rows" >> "$ROWS"
   awk -v c="$case" '{ n++; ate += $2; p95 += $3; if ($4 > mx) { mx = $4; ms = $1 } cons += $5; if (n == 1 || $5 < wc) { wc = $5; ws = $1 }
       yaw += $6; if (c == "blackout") { split($7, b, "/"); if (b[1] > bd) { bd = b[1]; bs = $1 } if (b[2] > ba) ba = b[2] }
       if (c == "pdr" || c == "calib") { pd += $7; if ($7 > pw) { pw = $7; ps = $1 } } }

@@ -167,10 +167,10 @@ struct SlowStage : FusionStage {
     ++fused;
     most_ahead = std::max(most_ahead, produced->load() - fused);
   }
-  // Stalled: no new frame for 300 ms (20 s at most, so a broken budget cannot hang the test).
+  // Stalled: no new frame for 500 ms (20 s at most, so a broken budget cannot hang the test).
   void wait_for_source_stall() const {
     int last = produced->load(), still_ms = 0;
-    for (int waited_ms = 0; still_ms < 300 && waited_ms < 20'000; waited_ms += 10) {
+    for (int waited_ms = 0; still_ms < 500 && waited_ms < 20'000; waited_ms += 10) {
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
       const int now = produced->load();
       still_ms = now == last ? still_ms + 10 : 0;
