@@ -29,6 +29,7 @@ struct RunConfig {
   std::string camera_height = "auto";
   double attitude_sigma_rad = 0.0;  // 0: the platform's default (run --attitude-sigma)
   bool no_innovation_bias = false;  // run --no-innovation-bias (FusionOptions::innovation_bias)
+  bool no_gait_regression = false;  // run --no-gait-regression (FusionOptions::gait_regression)
   std::string uwb_height = "auto", uwb_bias = "auto";  // auto | on | off (issue 16: learnt while running)
   std::string uwb_scale = "off";  // on | off: a per-anchor range scale beside the learnt bias
   std::vector<double> uwb_online_psd;                  // empty: HeightBiasOptions' defaults

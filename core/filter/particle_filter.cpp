@@ -460,6 +460,19 @@ void ParticleFilter::widen_gait(double min_scale_sigma, double min_heading_offse
   });
 }
 
+void ParticleFilter::shift_gait(double dk, double dkturn) {
+  if (!initialized_ || !set_.gait || !std::isfinite(dk) || !std::isfinite(dkturn)) return;
+  const float k_lo = static_cast<float>(options_.gait.min_scale), k_hi = static_cast<float>(options_.gait.max_scale);
+  const float t_lo = static_cast<float>(options_.gait.min_turn_slowdown);
+  const float t_hi = static_cast<float>(options_.gait.max_turn_slowdown);
+  const float fk = static_cast<float>(dk), ft = static_cast<float>(dkturn);
+  for_each_particle_chunk(set_.size(), [&](std::size_t, std::size_t b, std::size_t e) {
+    MapF K(set_.ks.data() + b, idx(e - b)), KT(set_.kturn.data() + b, idx(e - b));
+    K = (K + fk).max(k_lo).min(k_hi);
+    KT = (KT + ft).max(t_lo).min(t_hi);
+  });
+}
+
 void ParticleFilter::predict(const MotionInput& u) {
   if (!initialized_ || !(u.dt > 0.0) || !std::isfinite(u.dt)) return;
   if (u.has_gait) {

@@ -141,6 +141,10 @@ class ParticleFilter final : public PlanarFilter {
   // least these standard deviations (no-op where wider, or without the gait states): what
   // the fixes pinned down holds for the stretch they saw, not for the next one.
   void widen_gait(double min_scale_sigma, double min_heading_offset_sigma_rad);
+  // Moves every particle's step-length scale by dk and turn slowdown by dkturn (clamped to
+  // their ranges): the set re-centred on a calibration fitted outside it, each particle's
+  // deviation kept (core/fusion/gait_regression.hpp). No-op without the gait states.
+  void shift_gait(double dk, double dkturn);
   // Yaw offset of the attitude filter (heading state): weighted mean and standard
   // deviation over the particles (rad); valid = false without the heading state.
   struct HeadingEstimate {

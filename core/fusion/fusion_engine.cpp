@@ -1,5 +1,7 @@
 #include "core/fusion/fusion_engine.hpp"
 
+#include <Eigen/Eigenvalues>
+
 #include "core/filter/filter_factory.hpp"
 
 #include <algorithm>
@@ -276,12 +278,41 @@ void FusionEngine::predict_to(TimeNs t) {
   // real error from one stretch to the next (GaitNoise::dead_reckoning_*).
   if (pf_ && u.has_gait && gait_widened_at_fix_ != t_last_fix_ &&
       ns_to_seconds(t - t_last_fix_) >= options_.pf.gait.dead_reckoning_after_s) {
+    // First the calibration the tracked stretches fit (core/fusion/gait_regression.hpp), then
+    // its spread. Shifting every particle keeps each one's deviation and the set's spread.
+    if (const ParticleFilter::GaitEstimate g = pf_->gait_estimate(); g.valid) {
+      if (const auto fit = gait_regression_.solve(g.scale, g.turn_slowdown_s_per_rad)) {
+        pf_->shift_gait(fit->scale - g.scale, fit->turn_slowdown_s_per_rad - g.turn_slowdown_s_per_rad);
+        ++stats_.gait_recentred;
+        stats_.max_gait_recentre_scale = std::max(stats_.max_gait_recentre_scale, std::abs(fit->scale - g.scale));
+      }
+    }
     pf_->widen_gait(options_.pf.gait.dead_reckoning_scale_sigma, options_.pf.gait.dead_reckoning_heading_offset_sigma);
     gait_widened_at_fix_ = t_last_fix_;
   }
   filter_->predict(u);
   if (heading_observer_) heading_observer_->predict(u.dt, u.heading_drift_s, u.heading_bound_rad);
+  if (pf_ && u.has_gait && options_.gait_regression.enabled) feed_gait_regression(t, u);
   t_filter_ = t;
+}
+
+void FusionEngine::feed_gait_regression(TimeNs t, const MotionInput& u) {
+  if (stats_.reinitializations != gait_regression_reinits_) {
+    gait_regression_reinits_ = stats_.reinitializations;
+    gait_regression_.reset();  // a new track: its windows would span the jump
+  }
+  const PlanarEstimate est = pf_->estimate();
+  if (!est.valid) return;
+  // The walking direction the particles used (AHRS heading + yaw offset + gait offset): their
+  // mean velocity's. Standing (no velocity), the gait speed is zero and adds nothing.
+  const double vn = est.v.norm();
+  if (vn > 0.05) gait_regression_.add_motion(u.gait.speed_mps, u.gait.abs_turn_rate_rps, est.v / vn, u.dt);
+  const double max_var = est.cov_p.allFinite()
+                             ? Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(est.cov_p, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff()
+                             : std::numeric_limits<double>::infinity();
+  const GaitRegressionOptions& o = options_.gait_regression;
+  const bool tracking = ns_to_seconds(t - t_last_fix_) < o.fix_age_s && max_var < o.tracking_sigma_m * o.tracking_sigma_m;
+  gait_regression_.add_position(t, est.p, tracking);
 }
 
 void FusionEngine::on_imu(const ImuSample& raw, std::vector<PoseEstimate>& out) {

@@ -147,6 +147,11 @@ class FusionEngine final : public FusionStage {
   int last_leds_ = 0;
   TimeNs t_last_fix_ = 0;
   TimeNs gait_widened_at_fix_ = -1;  // t_last_fix_ of the outage whose gait spread was widened
+  // The gait fitted to the tracked stretches (FusionOptions::gait_regression); cleared after
+  // any restart (stats_.reinitializations moved since gait_regression_reinits_).
+  GaitRegression gait_regression_;
+  std::uint64_t gait_regression_reinits_ = 0;
+  void feed_gait_regression(TimeNs t, const MotionInput& u);
   std::optional<TimeNs> t_last_vlc_;  // the last camera frame that corrected the position
   std::optional<TimeNs> t_initialized_;
   std::uint64_t reinits_seen_ = 0;      // stats_.reinitializations at the last pose

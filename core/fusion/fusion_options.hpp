@@ -7,6 +7,7 @@
 #include "core/filter/particle_filter.hpp"
 #include "core/filter/vertical_filter.hpp"
 #include "core/fusion/heading_feedback.hpp"
+#include "core/fusion/gait_regression.hpp"
 #include "core/fusion/innovation_bias.hpp"
 #include "core/fusion/motion_source.hpp"
 #include "core/vlc/camera_height.hpp"
@@ -102,6 +103,10 @@ struct FusionOptions {
   // (fixes.csv, UWB fixes, loose VLC fixes; core/fusion/innovation_bias.hpp): the state and
   // the weighing are unchanged. Off with run --no-innovation-bias (for comparisons).
   InnovationBiasOptions innovation_bias;
+  // Once per outage the particles' step-length scale and turn slowdown are re-centred on a
+  // least-squares fit of the gait to the track the fixes pinned down (pdr, particle filters;
+  // core/fusion/gait_regression.hpp). Off with run --no-gait-regression (for comparisons).
+  GaitRegressionOptions gait_regression;
   // Sigma of fixes.csv rows that carry none (m).
   double default_fix_sigma_m = 0.2;
   // Poses are written at most at this rate (Hz) on the IMU's timeline; 0 = every IMU sample.

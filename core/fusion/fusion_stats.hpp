@@ -76,6 +76,10 @@ struct FusionStats {
   // filter's own spread, and the largest such term (m).
   std::uint64_t poses_lag_widened = 0;
   double max_lag_sigma_m = 0.0;
+  // Outages at whose start the particles' gait was re-centred on the least-squares fit
+  // (FusionOptions::gait_regression), and the largest change of the step-length scale.
+  std::uint64_t gait_recentred = 0;
+  double max_gait_recentre_scale = 0.0;
 };
 
 }  // namespace luxloc
