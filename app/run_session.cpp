@@ -243,6 +243,9 @@ void add_run_options(CLI::App* sub, RunConfig& cfg) {
                 "pdr: do not re-centre the particles' step-length scale and turn slowdown on the least-squares fit "
                 "of the tracked stretches when an outage starts (docs/MOTION.md \"Gait fitted to the track\"; for "
                 "comparisons)");
+  sub->add_flag("--no-heading-decouple", cfg.no_heading_decouple,
+                "do not shuffle the particles' yaw offsets before the first fix after an outage (docs/MOTION.md "
+                "\"Gait fitted to the track\"; for comparisons)");
   sub->add_option("--innovation-bias-tau", cfg.fusion.innovation_bias.time_constant_s,
                   "memory of the fixes' mean innovation that widens the reported sigma, s")
       ->check(CLI::Range(0.1, 600.0))
@@ -499,6 +502,7 @@ RunOutcome run_session(const RunConfig& cfg, std::ostream& log) {
                                                               : FusionOptions{}.attitude_sigma_rad;
   if (cfg.no_innovation_bias) c.fusion.innovation_bias.enabled = false;
   if (cfg.no_gait_regression) c.fusion.gait_regression.enabled = false;
+  if (cfg.no_heading_decouple) c.fusion.decouple_heading_after_outage = false;
   if (cfg.platform == "drone") c.fusion.vlc_frame_correlation = 2.0;  // FusionOptions::vlc_frame_correlation
   c.fusion.camera_height = cfg.camera_height == "on" || (cfg.camera_height == "auto" && cfg.platform == "drone");
   if (!cfg.imu_calib.empty()) c.fusion.imu_calibration = load_imu_calibration(cfg.imu_calib);
@@ -685,10 +689,12 @@ void print_report(const RunOutcome& r, std::ostream& log) {
         << " % of the poses mostly widened by the fixes' persistent innovation (the filter lagging its fixes, "
            "docs/MOTION.md \"Honest sigma\"), by up to "
         << std::setprecision(2) << f.max_lag_sigma_m << " m\n";
-  if (f.gait_recentred)
+  if (f.gait_recentred || f.headings_decoupled)
     log << "  gait: re-centred on the fit to the tracked stretches at " << f.gait_recentred
         << " outage start(s), the step-length scale by up to " << std::setprecision(3) << f.max_gait_recentre_scale
-        << std::setprecision(2) << " (docs/MOTION.md \"Gait fitted to the track\")\n";
+        << std::setprecision(2) << (f.headings_decoupled ? ", yaw offsets shuffled before the first fix after " : "")
+        << (f.headings_decoupled ? std::to_string(f.headings_decoupled) + " of them" : std::string())
+        << " (docs/MOTION.md \"Gait fitted to the track\")\n";
   if (f.camera_heights_used || f.camera_heights_gated || std::isfinite(f.final_height_m)) {
     log << "  height from the camera: " << f.camera_heights_used << " heights used (LED pairs, LED sizes) / "
         << f.camera_heights_gated << " gated" << (f.camera_height_in_uwb ? " (into the UWB height filter)" : "");

@@ -473,6 +473,19 @@ void ParticleFilter::shift_gait(double dk, double dkturn) {
   });
 }
 
+void ParticleFilter::decouple_heading(bool with_gait_offset) {
+  const bool gait = with_gait_offset && set_.gait;
+  if (!initialized_ || (!set_.heading && !gait)) return;
+  const std::size_t n = set_.size();
+  FastRng rng = FastRng::stream(options_.seed, ++step_, 0xDEC0ull);
+  // Fisher-Yates on both arrays at once.
+  for (std::size_t i = n; i > 1; --i) {
+    const std::size_t j = static_cast<std::size_t>(rng.uniform() * static_cast<double>(i));
+    if (set_.heading) std::swap(set_.yaw[i - 1], set_.yaw[std::min(j, i - 1)]);
+    if (gait) std::swap(set_.dpsi[i - 1], set_.dpsi[std::min(j, i - 1)]);
+  }
+}
+
 void ParticleFilter::predict(const MotionInput& u) {
   if (!initialized_ || !(u.dt > 0.0) || !std::isfinite(u.dt)) return;
   if (u.has_gait) {

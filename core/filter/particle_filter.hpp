@@ -145,6 +145,12 @@ class ParticleFilter final : public PlanarFilter {
   // their ranges): the set re-centred on a calibration fitted outside it, each particle's
   // deviation kept (core/fusion/gait_regression.hpp). No-op without the gait states.
   void shift_gait(double dk, double dkturn);
+  // Shuffles the particles' yaw offsets (and, with `with_gait_offset`, their walking-direction
+  // offsets, the same permutation) among them: the marginal spread is kept, what a stretch of
+  // dead reckoning tied to each particle's position is cut. For the first fix after an
+  // outage, which would otherwise pick the offsets by the cross-track error, whatever made it
+  // (docs/MOTION.md "Gait fitted to the track"). Serial (one shuffle of n), seeded.
+  void decouple_heading(bool with_gait_offset);
   // Yaw offset of the attitude filter (heading state): weighted mean and standard
   // deviation over the particles (rad); valid = false without the heading state.
   struct HeadingEstimate {
@@ -158,6 +164,7 @@ class ParticleFilter final : public PlanarFilter {
   void shift_heading(double delta_rad);
   bool has_heading() const { return set_.heading; }
   double yaw_offset(std::size_t i) const { return set_.heading ? set_.yaw[i] : 0.0; }
+  double gait_offset(std::size_t i) const { return set_.gait ? set_.dpsi[i] : 0.0; }  // d, rad
   // Raw state: positions relative to origin().
   const ParticleSet& particles() const { return set_; }
   const Eigen::Vector2d& origin() const { return origin_; }

@@ -296,6 +296,17 @@ void FusionEngine::predict_to(TimeNs t) {
   t_filter_ = t;
 }
 
+// The first correction after an outage (one the gait spread was widened for): the
+// particles' yaw offsets are shuffled first (FusionOptions::decouple_heading_after_outage).
+void FusionEngine::before_correction() {
+  if (!options_.decouple_heading_after_outage || !pf_ || gait_widened_at_fix_ != t_last_fix_ ||
+      heading_decoupled_at_fix_ == t_last_fix_)
+    return;
+  heading_decoupled_at_fix_ = t_last_fix_;
+  pf_->decouple_heading(false);
+  ++stats_.headings_decoupled;
+}
+
 void FusionEngine::feed_gait_regression(TimeNs t, const MotionInput& u) {
   if (stats_.reinitializations != gait_regression_reinits_) {
     gait_regression_reinits_ = stats_.reinitializations;
@@ -439,6 +450,7 @@ void FusionEngine::apply_frame(const DecodedFrame& f) {
         restart_global(f.t_obs, lik);
       }
     }
+    if (!searching && rms_m <= allowed) before_correction();
     if ((searching || rms_m <= allowed) && pf_->weigh(searching ? lik.tempered(1.0 / 9.0) : lik) &&
         pf_->normalize_and_resample()) {
       ++stats_.fixes_accepted;
@@ -618,6 +630,7 @@ void FusionEngine::apply_position(const PositionMeasurement& m) {
   if (!was_initialized) t_filter_ = have_imu_ ? t_imu_ : m.t;
   const std::optional<PlanarEstimate> before =
       was_initialized ? std::optional<PlanarEstimate>(filter_->estimate()) : std::nullopt;
+  if (was_initialized) before_correction();
   const CorrectionResult r = filter_->correct(m);
   if (r.accepted) {
     ++stats_.fixes_accepted;
@@ -748,6 +761,7 @@ void FusionEngine::on_uwb(const UwbSample& s, std::vector<PoseEstimate>& out) {
     // A range (+ bearing) that agrees: its fix's innovation, for the reported sigma.
     if (fix) note_innovation(s.t, *fix, e);
   }
+  before_correction();
   if (pf_->weigh(*lik) && pf_->normalize_and_resample()) {
     ++st.weighed;
     ++stats_.fixes_accepted;

@@ -152,6 +152,8 @@ class FusionEngine final : public FusionStage {
   GaitRegression gait_regression_;
   std::uint64_t gait_regression_reinits_ = 0;
   void feed_gait_regression(TimeNs t, const MotionInput& u);
+  TimeNs heading_decoupled_at_fix_ = -1;  // t_last_fix_ of the outage whose offsets were shuffled
+  void before_correction();
   std::optional<TimeNs> t_last_vlc_;  // the last camera frame that corrected the position
   std::optional<TimeNs> t_initialized_;
   std::uint64_t reinits_seen_ = 0;      // stats_.reinitializations at the last pose

@@ -80,6 +80,9 @@ struct FusionStats {
   // (FusionOptions::gait_regression), and the largest change of the step-length scale.
   std::uint64_t gait_recentred = 0;
   double max_gait_recentre_scale = 0.0;
+  // First corrections after an outage before which the yaw offsets were shuffled
+  // (FusionOptions::decouple_heading_after_outage).
+  std::uint64_t headings_decoupled = 0;
 };
 
 }  // namespace luxloc

@@ -2,8 +2,11 @@
 // model's gait calibration (step-length scale, heading offset) learnt from fixes carries
 // the dead reckoning through an outage, in the particle filter and in the EKF alike.
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
+#include <vector>
 #include <tbb/global_control.h>
 
 #include "core/filter/ekf_filter.hpp"
@@ -155,4 +158,77 @@ TEST_CASE("Pedestrian model: non-finite gait inputs predict nothing, standing st
 TEST_CASE("Motion model names parse and print", "[filter][motion]") {
   for (const std::string& n : motion_model_names()) CHECK(to_string(parse_motion_model(n)) == n);
   CHECK_THROWS_AS(parse_motion_model("walk"), std::invalid_argument);
+}
+
+// The fusion's hooks at an outage (docs/MOTION.md "Gait fitted to the track"): shift_gait
+// re-centres k and kturn keeping the spread; decouple_heading shuffles the yaw offsets (and,
+// asked to, the walking-direction offsets), keeping their spread, so that the first fix after
+// the dark cannot pick them by the position they turned each particle to.
+TEST_CASE("Pedestrian model: the gait re-centred, the heading offsets cut from the positions", "[filter][motion][gait]") {
+  ParticleFilterOptions opt;
+  opt.particles = 4000;
+  ParticleFilter pf(opt);
+  walk(pf, 30.0, 0.0);
+  // The dark, 15 s, with the offsets' spread widened as the fusion does at an outage: each
+  // particle's d + e turns its track.
+  pf.widen_gait(0.05, 0.05);
+  for (int k = 3001; k <= 4500; ++k) {
+    const double dt = 0.01, t = k * dt;
+    MotionInput u;
+    u.dt = dt;
+    u.has_gait = true;
+    u.gait.speed_mps = kSpeed / kScale;
+    u.gait.heading_rad = M_PI / 2 + kSpeed / kRadius * (t - 0.5 * dt) - kOffset;
+    u.gait.length_sigma_m = 0.05 * 0.67;
+    u.gait.heading_sigma_rad = 0.035;
+    u.gait.step_period_s = 0.55;
+    pf.predict(u);
+  }
+  const std::size_t n = pf.size();
+  const auto offsets = [&] {
+    std::vector<double> e(n), d(n);
+    for (std::size_t i = 0; i < n; ++i) e[i] = pf.yaw_offset(i), d[i] = pf.gait_offset(i);
+    return std::make_pair(e, d);
+  };
+  // A walking-direction offset delta turns the dark's displacement c by delta: the particle
+  // ends delta R90 c off. c: the true chord of the circle from 30 s to 45 s.
+  const double w = kSpeed / kRadius;
+  const Eigen::Vector2d c = kRadius * Eigen::Vector2d(std::cos(45.0 * w) - std::cos(30.0 * w), std::sin(45.0 * w) - std::sin(30.0 * w));
+  const Eigen::Vector2d across = Eigen::Vector2d(-c.y(), c.x()).normalized();
+  const auto offset_position_correlation = [&] {
+    // Correlation of the walking-direction offset d + e with the position across the chord.
+    double se = 0, sp = 0, see = 0, spp = 0, sep = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double e = pf.yaw_offset(i) + pf.gait_offset(i), p = pf.position(i).dot(across);
+      se += e, sp += p, see += e * e, spp += p * p, sep += e * p;
+    }
+    const double m = static_cast<double>(n), cov = sep / m - se / m * sp / m;
+    const double ve = see / m - se / m * se / m, vp = spp / m - sp / m * sp / m;
+    return std::abs(cov / std::sqrt(ve * vp));
+  };
+  const auto [e0, d0] = offsets();
+  pf.decouple_heading(false);  // the yaw offsets only: d stays with its particle
+  const auto [e1, d1] = offsets();
+  CHECK(d1 == d0);
+  CHECK(e1 != e0);
+  auto se0 = e0, se1 = e1;
+  std::sort(se0.begin(), se0.end());
+  std::sort(se1.begin(), se1.end());
+  CHECK(se1 == se0);  // the same offsets, only their owners changed
+  const double corr_before = offset_position_correlation();
+  pf.decouple_heading(true);
+  const double corr_after = offset_position_correlation();
+  INFO("walking-direction offset - position correlation " << corr_before << " -> " << corr_after);
+  CHECK(corr_before > 0.3);
+  CHECK(corr_after < 0.1);
+
+  const ParticleFilter::GaitEstimate g = pf.gait_estimate();
+  REQUIRE(g.valid);
+  pf.shift_gait(0.05, 0.01);
+  const ParticleFilter::GaitEstimate s = pf.gait_estimate();
+  CHECK(s.scale == Approx(g.scale + 0.05).margin(1e-4));
+  CHECK(s.scale_sigma == Approx(g.scale_sigma).margin(1e-4));
+  CHECK(s.turn_slowdown_s_per_rad == Approx(g.turn_slowdown_s_per_rad + 0.01).margin(1e-3));
+  pf.shift_gait(std::numeric_limits<double>::quiet_NaN(), 0.0);  // ignored
+  CHECK(pf.gait_estimate().scale == Approx(s.scale).margin(1e-9));
 }
