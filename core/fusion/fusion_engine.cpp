@@ -308,10 +308,7 @@ void FusionEngine::before_correction() {
 }
 
 void FusionEngine::feed_gait_regression(TimeNs t, const MotionInput& u) {
-  if (stats_.reinitializations != gait_regression_reinits_) {
-    gait_regression_reinits_ = stats_.reinitializations;
-    gait_regression_.reset();  // a new track: its windows would span the jump
-  }
+  if (restarted_since(gait_regression_reinits_)) gait_regression_.reset();  // windows would span the jump
   const PlanarEstimate est = pf_->estimate();
   if (!est.valid) return;
   // The walking direction the particles used (AHRS heading + yaw offset + gait offset): their
@@ -650,10 +647,7 @@ void FusionEngine::note_innovation(TimeNs t, const PositionMeasurement& m, const
 InnovationBias& FusionEngine::innovation_bias() {
   // Every restart counts in stats_.reinitializations: a new track, whose lag the old one's
   // innovations say nothing of.
-  if (stats_.reinitializations != innovation_reinits_) {
-    innovation_reinits_ = stats_.reinitializations;
-    innovation_bias_.reset();
-  }
+  if (restarted_since(innovation_reinits_)) innovation_bias_.reset();
   return innovation_bias_;
 }
 
@@ -860,10 +854,7 @@ void FusionEngine::emit(TimeNs t, std::vector<PoseEstimate>& out, bool force) {
   // SPEC.md's modes: re-initialised (for 1 s after the filter restarted around a fix), lost
   // (the last corrections disagreed with the filter: it is being gated towards a restart),
   // tracking (an absolute correction within the last second), else dead-reckoning.
-  if (stats_.reinitializations != reinits_seen_) {
-    reinits_seen_ = stats_.reinitializations;
-    t_last_reinit_ = t;
-  }
+  if (restarted_since(reinits_seen_)) t_last_reinit_ = t;
   if (t_last_reinit_ && ns_to_seconds(t - *t_last_reinit_) < 1.0)
     p.mode = "re-initialised";
   else if (consecutive_gated_ >= kLostAfterGated || uwb_disagreements_ >= kLostAfterGated ||

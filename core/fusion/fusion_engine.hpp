@@ -147,6 +147,13 @@ class FusionEngine final : public FusionStage {
   int last_leds_ = 0;
   TimeNs t_last_fix_ = 0;
   TimeNs gait_widened_at_fix_ = -1;  // t_last_fix_ of the outage whose gait spread was widened
+  // Whether the filter restarted (stats_.reinitializations moved) since `seen` last caught
+  // up with it; catches it up. Each consumer of restarts keeps its own `seen`.
+  bool restarted_since(std::uint64_t& seen) {
+    const bool moved = seen != stats_.reinitializations;
+    seen = stats_.reinitializations;
+    return moved;
+  }
   // The gait fitted to the tracked stretches (FusionOptions::gait_regression); cleared after
   // any restart (stats_.reinitializations moved since gait_regression_reinits_).
   GaitRegression gait_regression_;

@@ -13,6 +13,16 @@
 using namespace luxloc;
 using luxloc::test::run_luxloc;
 
+namespace {
+// The poses with a <= t < b (s).
+std::vector<PoseRow> poses_between(const std::vector<PoseRow>& poses, double a, double b) {
+  std::vector<PoseRow> w;
+  for (const PoseRow& p : poses)
+    if (p.t >= seconds_to_ns(a) && p.t < seconds_to_ns(b)) w.push_back(p);
+  return w;
+}
+}  // namespace
+
 TEST_CASE("sim --walker random: the draw is recorded, IMU + VLC on it within 5 cm RMSE", "[e2e][walker]") {
   const auto dir = test::scratch_dir("walker_random");
   const auto session = dir / "walk";
@@ -56,12 +66,7 @@ TEST_CASE("sim --walker random, 15 s blackout: within 0.5 m in the dark, sigma c
   REQUIRE(run.exit_code == 0);
   const auto truth = read_truth_csv((session / "groundtruth.csv").string());
   const auto poses = read_pose_file(poses_csv.string());
-  const auto window = [&](double a, double b) {
-    std::vector<PoseRow> w;
-    for (const PoseRow& p : poses)
-      if (p.t >= seconds_to_ns(a) && p.t < seconds_to_ns(b)) w.push_back(p);
-    return evaluate(truth, w);
-  };
+  const auto window = [&](double a, double b) { return evaluate(truth, poses_between(poses, a, b)); };
   const EvalResult dark = window(40.0, 55.0), after = window(57.0, 58.0), all = evaluate(truth, poses);
   WARN("blackout (seed 1): max " << dark.max_m << " m, " << 100.0 * dark.consistency
                                  << " % within the 95 % ellipse, mean sigma " << dark.mean_sigma_m << " m; 2-3 s after: max "
@@ -92,10 +97,7 @@ TEST_CASE("sim --walker random, 15 s blackout: the gait fitted to the track carr
     const auto run = run_luxloc("run --playback '" + session.string() + "' --out '" + poses_csv.string() + "' " + extra);
     INFO(run.output);
     REQUIRE(run.exit_code == 0);
-    std::vector<PoseRow> w;
-    for (const PoseRow& p : read_pose_file(poses_csv.string()))
-      if (p.t >= seconds_to_ns(40.0) && p.t < seconds_to_ns(55.0)) w.push_back(p);
-    return std::make_pair(evaluate(truth, w), run.output);
+    return std::make_pair(evaluate(truth, poses_between(read_pose_file(poses_csv.string()), 40.0, 55.0)), run.output);
   };
   const auto [with, log] = dark("");
   const auto without = dark("--no-gait-regression").first;
