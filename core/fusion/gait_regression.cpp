@@ -30,8 +30,8 @@ void GaitRegression::add_position(TimeNs t, const Eigen::Vector2d& p, bool track
   if (span < options_.window_s) return;
   const Eigen::Vector2d d = p - anchor_;
   // A window far off the current solution is a jump of the filter, not the gait.
-  if (const std::optional<Solution> s = solve(1.0, 0.0); s && s->windows >= 5) {
-    const Eigen::Vector2d r = d - (s->scale * g_ - s->scale * s->turn_slowdown_s_per_rad * h_);
+  if (const std::optional<Eigen::Vector2d> x = fit(1.0, 0.0); x && windows_ >= 5) {
+    const Eigen::Vector2d r = d - (x->x() * g_ - x->y() * h_);
     if (r.norm() > options_.max_residual_m) {
       ++rejected_;
       return restart();
@@ -47,14 +47,20 @@ void GaitRegression::add_position(TimeNs t, const Eigen::Vector2d& p, bool track
   restart();
 }
 
-std::optional<GaitRegression::Solution> GaitRegression::solve(double prior_scale, double prior_turn_slowdown) const {
+std::optional<Eigen::Vector2d> GaitRegression::fit(double prior_scale, double prior_turn_slowdown) const {
   if (!options_.enabled || windows_ == 0 || !std::isfinite(prior_scale) || !std::isfinite(prior_turn_slowdown))
     return std::nullopt;
   const Eigen::Vector2d prior(prior_scale, prior_scale * prior_turn_slowdown);
   const Eigen::Matrix2d A = A_ + options_.ridge * Eigen::Matrix2d::Identity();
   const Eigen::Vector2d x = A.ldlt().solve(b_ + options_.ridge * prior);
   if (!x.allFinite() || !(x.x() > 0.1)) return std::nullopt;
-  return Solution{x.x(), x.y() / x.x(), windows_};
+  return x;
+}
+
+std::optional<GaitRegression::Solution> GaitRegression::solve(double prior_scale, double prior_turn_slowdown) const {
+  const std::optional<Eigen::Vector2d> x = fit(prior_scale, prior_turn_slowdown);
+  if (!x) return std::nullopt;
+  return Solution{x->x(), x->y() / x->x(), windows_};
 }
 
 void GaitRegression::reset() {

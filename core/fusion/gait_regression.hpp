@@ -65,6 +65,8 @@ class GaitRegression {
   void reset();
 
  private:
+  // (a, c) = (k, k kturn), the ridge solution about the prior; empty before the first window.
+  std::optional<Eigen::Vector2d> fit(double prior_scale, double prior_turn_slowdown) const;
   GaitRegressionOptions options_;
   Eigen::Vector2d g_ = Eigen::Vector2d::Zero(), h_ = Eigen::Vector2d::Zero(), anchor_ = Eigen::Vector2d::Zero();
   std::optional<TimeNs> t_anchor_;
