@@ -1,6 +1,7 @@
 // `luxloc run` with live sources that fail, as a user sees it (real fusion, real binary):
 // the camera stalls for 5 s while the IMU's clock jumps by +10 s and back by -10 s.
 #include <catch2/catch.hpp>
+#include <regex>
 #include <sstream>
 
 #include "core/eval/trajectory_io.hpp"
@@ -28,6 +29,15 @@ std::string field_mode(const std::string& row) {
   return row.substr(b, e == std::string::npos ? std::string::npos : e - b);
 }
 
+// The frames source's report: [1] its late-sample count if any, [2] silences, [3] longest (s).
+std::smatch frames_report(const std::string& output) {
+  static const std::regex re(
+      R"(source sim:walk/frames: \d+ samples(, \d+ skipped \(late[^)]*\))?[^\n]*\n(?:[^\n]*\n)*?    silent (\d+)x, came back each time \(longest ([0-9.]+) s\))");
+  std::smatch m;
+  std::regex_search(output, m, re);
+  return m;
+}
+
 }  // namespace
 
 TEST_CASE("Live fault: luxloc run, camera stalled 5 s and IMU clock jumping +10 s and -10 s: poses go on, both reported", "[live-fault][app]") {
@@ -35,10 +45,22 @@ TEST_CASE("Live fault: luxloc run, camera stalled 5 s and IMU clock jumping +10 
   const auto poses = dir / "poses.csv";
   const CommandResult r = run_luxloc(
       "run --source sim:walk,streams=imu,duration=12,jump=3:+10/7:-10 "
-      "--source sim:walk,streams=frames,duration=12,stall=4:5 --out '" + poses.string() + "'");
+      "--source sim:walk,streams=frames,duration=12,fps=15,stall=4:5 --out '" + poses.string() + "'");
   INFO(r.output);
   REQUIRE(r.exit_code == 0);
-  CHECK_THAT(r.output, Catch::Contains("source sim:walk/frames") && Catch::Contains("silent 1x, came back each time (longest 5.0"));
+  // The 5 s stall is the longest silence. It is the only one unless the machine was so loaded
+  // (ASan beside another end-to-end run on 2 cores) that frames came after the merger had
+  // moved on: then they are reported as late, and each such gap is one more silence. 15 fps
+  // (not the sim's 30) gives the sim camera 67 ms to render a frame under ASan on a busy
+  // machine; at 30 fps it fell behind real time there and the merger dropped its frames.
+  const std::smatch frames = frames_report(r.output);
+  REQUIRE(!frames.empty());
+  const int silences = std::stoi(frames[2]);
+  const double longest = std::stod(frames[3]);
+  INFO("frames: " << silences << " silences, longest " << longest << " s, late: " << frames[1].matched);
+  CHECK(longest >= 5.0);
+  CHECK(longest < 5.6);
+  CHECK((silences == 1 || (silences <= 4 && frames[1].matched)));
   CHECK_THAT(r.output, Catch::Contains("clock jumped 2x, re-based onto the arrival clock (first jump +10.0"));
   const std::vector<std::string> rows = csv_rows(read_text(poses));
   REQUIRE(rows.size() > 400);  // 50 Hz over 12 s
