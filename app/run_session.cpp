@@ -644,6 +644,11 @@ void print_report(const RunOutcome& r, std::ostream& log) {
       const std::uint64_t named = std::max<std::uint64_t>(e.messages.size(), 1);
       if (e.count > named) log << "    (" << e.count - named << " more " << reason << " not listed)\n";
     }
+    // The lag behind its stamps: what the merger waits for (core/pipeline/source_lag.hpp).
+    if (s.lag_samples)
+      log << "    arrived " << std::setprecision(0) << 1e3 * s.lag_mean_s << " ms after its stamps (mean; max "
+          << 1e3 * s.lag_max_s << " ms)\n"
+          << std::setprecision(2);
     if (s.silences) log << "    silent " << s.silences << "x, came back each time (longest " << s.longest_silence_s << " s)\n";
     if (s.clock_jumps)
       log << "    clock jumped " << s.clock_jumps << "x, re-based onto the arrival clock (first jump " << std::showpos

@@ -7,6 +7,7 @@
 #include "core/common/memory_trim.hpp"
 #include "core/pipeline/clock_rebase.hpp"
 #include "core/pipeline/doorbell.hpp"
+#include "core/pipeline/source_lag.hpp"
 #include "core/pipeline/source_silence.hpp"
 #include "core/pipeline/spsc_queue.hpp"
 
@@ -37,7 +38,13 @@ struct Lane {
   std::uint64_t clock_jumps = 0;  // source thread, read after the join
   TimeNs first_jump_ns = 0;
   bool end_seen = false;  // fusion thread: the end was noted
+  bool tracks_lag = false;  // a live source stamped on the arrival clock
+  SourceLag lag;            // fusion thread
 };
+
+TimeNs as_ns(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(t.time_since_epoch()).count();
+}
 
 void shift_time(SensorData& d, TimeNs offset) {
   std::visit([offset](auto& s) { s.t += offset; }, d);
@@ -46,7 +53,7 @@ void shift_time(SensorData& d, TimeNs offset) {
 // A live source's clock that jumps is re-based onto the arrival clock (ClockRebase).
 void rebase_clock(ClockRebase& clock, SensorData& d, Clock::time_point arrival, Lane& lane) {
   const TimeNs t = sample_time(d);
-  const TimeNs fixed = clock.apply(t, std::chrono::duration_cast<std::chrono::nanoseconds>(arrival.time_since_epoch()).count());
+  const TimeNs fixed = clock.apply(t, as_ns(arrival));
   if (fixed != t) shift_time(d, fixed - t);
   if (clock.jumped() && lane.clock_jumps++ == 0) lane.first_jump_ns = clock.last_jump_ns();
 }
@@ -62,7 +69,10 @@ PipelineReport Pipeline::run(FusionStage& stage) {
   const auto wall0 = Clock::now();
   const std::size_t n = sources_.size();
   std::vector<std::unique_ptr<Lane>> lanes;
-  for (std::size_t i = 0; i < n; ++i) lanes.push_back(std::make_unique<Lane>(options_.source_queue_capacity));
+  for (std::size_t i = 0; i < n; ++i) {
+    lanes.push_back(std::make_unique<Lane>(options_.source_queue_capacity));
+    lanes.back()->tracks_lag = sources_[i]->live() && sources_[i]->clock_follows_arrival();
+  }
   SpscQueue<PoseEstimate> poses(options_.pose_queue_capacity);
   std::atomic<bool> fusion_done{false};
   // Who sleeps on what when its ring is empty (or full): the fusion thread on input_bell
@@ -220,12 +230,14 @@ PipelineReport Pipeline::run(FusionStage& stage) {
   bool have_first = false;
   TimeNs first_t = 0;
   IdleWait backoff;
+  const TimeNs max_lag_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(options_.max_source_lag).count();
   MemoryTrim trim;  // a backlog of frames must not stay in the RSS (core/common/memory_trim.hpp)
   while (!stop_.load(std::memory_order_relaxed)) {
     const std::uint64_t ticket = input_bell.ticket();
     int best = -1;
     TimeNs best_t = 0;
     bool waiting = false, any_open = false;
+    TimeNs waited_lag = -1;  // the largest learnt lag of the sources waited for (ns)
     for (std::size_t i = 0; i < n; ++i) {
       Lane& lane = *lanes[i];
       const bool done = lane.done.load(std::memory_order_acquire);
@@ -243,6 +255,10 @@ PipelineReport Pipeline::run(FusionStage& stage) {
       } else if (!done) {
         any_open = true;
         waiting = true;
+        // A lag beyond max_source_lag is not waited for (the samples would be late anyway;
+        // or the source stamps on a clock of its own, where "lag" means nothing).
+        if (lane.tracks_lag && lane.lag.known() && lane.lag.high_ns() <= max_lag_ns)
+          waited_lag = std::max(waited_lag, lane.lag.high_ns());
       }
     }
     if (!any_open) break;  // every source ended and every queue is empty
@@ -256,8 +272,17 @@ PipelineReport Pipeline::run(FusionStage& stage) {
         backoff.wait(input_bell, ticket);
         continue;
       }
+      // A sample stamped before `best` may still be on its way: wait the reorder window
+      // beyond the head's arrival, or beyond the moment a lagging source's sample of the
+      // head's time usually arrives (its stamp + the source's learnt lag), up to
+      // max_source_lag after the head's arrival.
       const QueuedSample* head = lanes[static_cast<std::size_t>(best)]->queue.peek();
-      const auto give_up = head->arrival + options_.reorder_window;
+      auto expected = head->arrival;
+      if (waited_lag >= 0) {
+        const Clock::time_point lagged{std::chrono::duration_cast<Clock::duration>(std::chrono::nanoseconds(best_t + waited_lag))};
+        expected = std::clamp(lagged, head->arrival, head->arrival + options_.max_source_lag);
+      }
+      const auto give_up = expected + options_.reorder_window;
       if (Clock::now() < give_up) {
         backoff.wait(input_bell, ticket, give_up);
         continue;
@@ -268,6 +293,7 @@ PipelineReport Pipeline::run(FusionStage& stage) {
     QueuedSample item = std::move(*lane.queue.try_pop());
     if (item.bytes > 0) lane.bytes.fetch_sub(item.bytes, std::memory_order_release);
     space_bell.ring();
+    if (lane.tracks_lag) lane.lag.update(item.sample.t, as_ns(item.arrival));
     if (item.sample.t < last_t) {
       lane.drops.add("late (older than the reorder window)",
                      sources_[static_cast<std::size_t>(best)]->name() + ": sample " +
@@ -286,7 +312,7 @@ PipelineReport Pipeline::run(FusionStage& stage) {
     }
     ++lane.fused;
     newest_arrival_ns = std::max<std::int64_t>(
-        newest_arrival_ns, std::chrono::duration_cast<std::chrono::nanoseconds>(item.arrival.time_since_epoch()).count());
+        newest_arrival_ns, as_ns(item.arrival));
     stage.process(item.sample, out);
     emit();
     std::size_t queued_bytes = 0;
@@ -321,6 +347,11 @@ PipelineReport Pipeline::run(FusionStage& stage) {
     sr.samples = lanes[i]->fused;
     sr.drops = sources_[i]->drops().snapshot();
     for (auto& [k, e] : lanes[i]->drops.snapshot()) sr.drops[k] = e;
+    if (lanes[i]->lag.known()) {
+      sr.lag_samples = lanes[i]->lag.count();
+      sr.lag_mean_s = lanes[i]->lag.mean_s();
+      sr.lag_max_s = lanes[i]->lag.max_s();
+    }
     sr.failure = lanes[i]->failure;
     sr.silences = silence.gaps(i).count;
     sr.longest_silence_s = silence.gaps(i).longest_s;

@@ -41,8 +41,14 @@ struct PipelineOptions {
   // cannot pile up hundreds of frames (the soak's +13-19 % RSS, docs/RELIABILITY.md).
   std::size_t source_queue_bytes = std::size_t{16} << 20;
   std::size_t pose_queue_capacity = 16384;
-  // Live: how long (wall clock) the merger waits for a silent source before going on.
+  // Live: how long (wall clock) the merger waits for a silent source before going on,
+  // beyond the lag that source's samples usually arrive with (core/pipeline/source_lag.hpp).
   std::chrono::milliseconds reorder_window{60};
+  // Live: the longest learnt lag the merger waits for (beyond the head sample's arrival).
+  // 500 ms: the shortest silence (core/pipeline/source_silence.hpp); a source later than that
+  // is treated as silent, not waited for, so a stalled camera holds the poses back by half a
+  // second at most.
+  std::chrono::milliseconds max_source_lag{500};
   // Live mode: a full queue drops (counted) instead of making the producer wait.
   bool live = false;
   // Pace playback at the recorded speed.
@@ -67,6 +73,11 @@ struct SourceReport {
   double longest_silence_s = 0.0;
   std::uint64_t clock_jumps = 0;
   double first_clock_jump_s = 0.0;
+  // Live sources on the arrival clock: how long after its stamps the source's samples
+  // arrived (s), mean and max over lag_samples samples, fused or late
+  // (core/pipeline/source_lag.hpp); lag_samples = 0: not measured.
+  std::uint64_t lag_samples = 0;
+  double lag_mean_s = 0.0, lag_max_s = 0.0;
 };
 
 struct SinkReport {

@@ -66,6 +66,12 @@ SimFaults SimFaults::from_spec(const SourceSpec& spec) {
   for (const auto& [a, b] : pairs(spec, "stall", true)) f.stalls.push_back({a, b});
   for (const auto& [a, b] : pairs(spec, "flood", true)) f.floods.push_back({a, b});
   for (const auto& [a, b] : pairs(spec, "jump", false)) f.jumps.push_back({a, b});
+  const std::string lag = spec.get("lag", "");
+  if (!lag.empty()) {
+    f.lag_s = number(spec, "lag", lag);
+    if (!(f.lag_s >= 0.0 && f.lag_s <= 2.0))
+      throw InputError("--source", 0, "lag", "'" + spec.text + "': lag: the delivery lag must be 0-2 s, got " + lag);
+  }
   return f;
 }
 

@@ -9,6 +9,9 @@
 //                  interval to the stream's next sample: 10x the rate)
 //   jump=T:S       from T on every time stamp is S seconds off (S may be negative; jumps
 //                  add up), while the samples are still sent at the true time
+//   lag=S          every sample is handed over S seconds (0-2) after its time stamp: a
+//                  webcam's readout, USB transfer and driver buffering (30-150 ms), while
+//                  its stamp stays the exposure's start
 // e.g. `--source sim:walk,streams=frames,stall=5:5,jump=10:+10`.
 #include <optional>
 #include <string>
@@ -31,10 +34,11 @@ struct SimFaults {
   std::optional<double> die_at_s;
   std::vector<Window> stalls, floods;
   std::vector<Jump> jumps;
+  double lag_s = 0.0;
 
-  // From the spec's die / stall / flood / jump keys; throws InputError (field = the key).
+  // From the spec's die / stall / flood / jump / lag keys; throws InputError (field = the key).
   static SimFaults from_spec(const SourceSpec& spec);
-  bool empty() const { return !die_at_s && stalls.empty() && floods.empty() && jumps.empty(); }
+  bool empty() const { return !die_at_s && stalls.empty() && floods.empty() && jumps.empty() && lag_s == 0.0; }
   bool dead(double t_s) const { return die_at_s && t_s >= *die_at_s; }
   bool stalled(double t_s) const;
   bool flooding(double t_s) const;

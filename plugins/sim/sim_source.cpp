@@ -227,7 +227,7 @@ bool SimSource::next_simulated(SensorData& out) {
       return false;
     }
     if (options_.faults.stalled(ts)) continue;  // lost, as a stalled device's samples are
-    if (!wait_until(t0_ + t_sim)) return false;
+    if (!wait_until(t0_ + t_sim + seconds_to_ns(options_.faults.lag_s))) return false;
     set_time(d, t0_ + t_sim + options_.faults.clock_error_ns(ts));
     out = std::move(d);
     return true;
