@@ -8,13 +8,16 @@
 #include <limits>
 #include <sstream>
 #include <memory>
+#include <optional>
 #include <ostream>
+#include <opencv2/core/persistence.hpp>
 #include <tbb/global_control.h>
 
 #include "core/common/input_error.hpp"
 #include "core/filter/filter_factory.hpp"
 #include "core/filter/motion_model.hpp"
 #include "core/imu/imu_calibration.hpp"
+#include "core/vlc/camera_model.hpp"
 #include "plugins/output/pose_file_sinks.hpp"
 #include "plugins/output/status_line.hpp"
 #include "plugins/output/mqtt_pose_sink.hpp"
@@ -388,14 +391,27 @@ void for_each_frame(OpenedSources& opened, const std::function<bool()>& more,
   }
 }
 
+std::optional<double> measured_row_time_us(const std::string& camera_path) {
+  const CameraModel cam = CameraModel::load(camera_path);  // validates the file (InputError naming key)
+  // Only a measured row time: without the key CameraModel falls back to a 30 us guess.
+  if (const cv::FileStorage fs(camera_path, cv::FileStorage::READ); !fs["row_time_us"].empty())
+    return cam.row_time_s * 1e6;
+  return std::nullopt;
+}
+
 OpenedSources open_run_sources(const RunConfig& c) {
   for (const std::string& path : c.plugins) register_external_plugin(path);
   std::vector<std::string> playback_dirs;
   std::vector<SourcePtr> live;
   LiveSessionDefaults live_defaults;
   if (!c.playback.empty()) playback_dirs.push_back(c.playback);
+  // A V4L2 camera whose driver stamps the end of each frame needs the row time to move
+  // its frames to row 0's exposure start: from --camera when the source does not give it.
+  const std::optional<double> camera_row_time_us = c.camera.empty() ? std::nullopt : measured_row_time_us(c.camera);
   for (const auto& text : c.sources) {
-    const SourceSpec spec = SourceSpec::parse(text);
+    SourceSpec spec = SourceSpec::parse(text);
+    if (spec.kind == "v4l2" && camera_row_time_us && !spec.params.count("row_time_us"))
+      spec.params["row_time_us"] = std::to_string(*camera_row_time_us);
     if (spec.kind == "playback") {
       playback_dirs.push_back(spec.target);
     } else {

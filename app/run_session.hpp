@@ -80,6 +80,10 @@ struct OpenedSources {
   PipelineOptions pipeline;
 };
 OpenedSources open_run_sources(const RunConfig& cfg);
+// The row time camera.yaml states (us), none when it has no row_time_us (CameraModel's 30 us
+// default is a guess): handed to a v4l2 source without row_time_us=, for its end-of-frame
+// stamps (plugins/v4l2/v4l2_camera.hpp).
+std::optional<double> measured_row_time_us(const std::string& camera_path);
 // The camera frames of the opened sources, one source after another, for the calibration
 // tools: visit(frame) while more() holds (checked before each read); then every source is
 // asked to stop (a live camera would stream on).

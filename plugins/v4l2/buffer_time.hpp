@@ -19,6 +19,11 @@ enum class BufferClock { monotonic, realtime, arrival };
 struct BufferTime {
   TimeNs t = 0;
   BufferClock clock = BufferClock::arrival;
+  // The driver's stamp marks the end of the frame (V4L2_BUF_FLAG_TSTAMP_SRC_EOF, the API's
+  // default: most non-UVC drivers), not the start of its exposure (TSTAMP_SRC_SOE, which
+  // uvcvideo declares). SPEC's frame time is row 0's exposure start, so such a stamp is late
+  // by the exposure and the readout of the rows (V4l2Camera moves it back when it knows them).
+  bool end_of_frame = false;
 };
 
 // 5 s: a frame is dequeued a few frame intervals after its exposure (4 buffers at 1 fps at

@@ -421,12 +421,21 @@ V4l2Camera::GrabStatus V4l2Camera::grab(int timeout_ms, int wake_fd, cv::Mat& gr
   const TimeNs stamp = static_cast<TimeNs>(b.timestamp.tv_sec) * kNsPerSecond +
                        static_cast<TimeNs>(b.timestamp.tv_usec) * 1000;
   const BufferTime bt = buffer_time(b.flags, stamp, arrival, static_cast<TimeNs>(real.tv_sec) * kNsPerSecond + real.tv_nsec);
-  t = bt.t;
   clock_ = bt.clock;
   arrival_stamped_ = bt.clock == BufferClock::arrival;
+  end_of_frame_ = bt.end_of_frame;
+  t = bt.t - (end_of_frame_ ? end_of_frame_shift_ns() : 0);
   if (xioctl(VIDIOC_QBUF, &b) != 0)
     throw V4l2Error(V4l2Error::Kind::io, options_.path + ": device lost (VIDIOC_QBUF: " + errno_text(errno) + ")");
   return status;
+}
+
+TimeNs V4l2Camera::end_of_frame_shift_ns() const {
+  // End of frame = row 0's exposure start + the exposure + (H - 1) row times (the last row's
+  // readout ends one exposure after it started, H - 1 rows after row 0).
+  if (!options_.row_time_us) return 0;
+  const double us = exposure_us_.value_or(0.0) + static_cast<double>(std::max(0, layout_.height - 1)) * *options_.row_time_us;
+  return static_cast<TimeNs>(std::llround(us * 1000.0));
 }
 
 }  // namespace luxloc

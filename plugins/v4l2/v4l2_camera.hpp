@@ -17,7 +17,10 @@
 // buffer's timestamp is on CLOCK_MONOTONIC, the clock of our live timeline, and is used as
 // is; an old driver's CLOCK_REALTIME stamp (flag UNKNOWN) is moved onto it; otherwise the
 // frame is stamped with CLOCK_MONOTONIC when it is dequeued (later than the exposure by the
-// readout and transfer) and arrival_stamped() says so.
+// readout and transfer) and arrival_stamped() says so. A driver stamp that marks the end of
+// the frame (TSTAMP_SRC_EOF) is moved back by the exposure and the readout of rows 0..H-1
+// when the row time is known (options row_time_us), so every frame time is row 0's exposure
+// start as SPEC.md has it; end_of_frame_shift_ns() says by how much (0: not moved).
 //
 // Every device call goes through V4l2Io (plugins/v4l2/v4l2_io.hpp): the real libv4l2, or a
 // fake device in the tests.
@@ -59,6 +62,9 @@ struct V4l2CameraOptions {
   std::optional<double> exposure_us = 100.0;
   std::optional<double> gain;  // V4L2_CID_GAIN raw value, clamped to its range; none: unchanged
   int buffers = 4;
+  // The rolling shutter's row time (camera.yaml row_time, `calib rowtime`): with it a
+  // driver's end-of-frame stamp is moved back to row 0's exposure start.
+  std::optional<double> row_time_us;
 };
 
 // One integer / menu / boolean control as the driver reports it.
@@ -99,6 +105,10 @@ class V4l2Camera {
   std::optional<double> exposure_us() const { return exposure_us_; }  // as read back
   bool arrival_stamped() const { return arrival_stamped_; }
   BufferClock clock() const { return clock_; }  // of the last frame's time stamp
+  // The last frame's driver stamp marked the end of the frame; and the time it was moved back
+  // by (0 when the row time is not known: then the frame is late by its readout).
+  bool end_of_frame_stamped() const { return end_of_frame_; }
+  TimeNs end_of_frame_shift_ns() const;
   const std::string& last_error() const { return error_; }
   // What the driver changed from the request (resolution, frame rate, exposure clamped...).
   const std::vector<std::string>& notes() const { return notes_; }
@@ -122,6 +132,7 @@ class V4l2Camera {
   std::optional<double> exposure_us_;
   bool streaming_ = false;
   bool arrival_stamped_ = false;
+  bool end_of_frame_ = false;
   BufferClock clock_ = BufferClock::arrival;
   struct Buffer {
     void* start = nullptr;

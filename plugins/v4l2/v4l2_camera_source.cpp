@@ -28,14 +28,14 @@ int positive_int(const SourceSpec& spec, const std::string& key, int fallback, i
 }  // namespace
 
 V4l2CameraOptions v4l2_options_from_spec(const SourceSpec& spec) {
-  static const char* known[] = {"width", "height", "fps", "exposure_us", "gain", "format", "buffers", "on_loss"};
+  static const char* known[] = {"width", "height", "fps", "exposure_us", "gain", "format", "buffers", "on_loss", "row_time_us"};
   for (const auto& [key, value] : spec.params) {
     bool ok = false;
     for (const char* k : known) ok = ok || key == k;
     if (!ok)
       throw InputError("--source", 0, key,
                        "'" + spec.text + "': unknown option for v4l2 (known: width, height, fps, exposure_us, gain, "
-                                         "format, buffers, on_loss)");
+                                         "format, buffers, on_loss, row_time_us)");
   }
   if (spec.target.rfind("/dev/", 0) != 0)
     throw InputError("--source", 0, "--source", "'" + spec.text + "': the v4l2 target is a device path such as /dev/video0");
@@ -58,6 +58,12 @@ V4l2CameraOptions v4l2_options_from_spec(const SourceSpec& spec) {
   if (spec.params.count("gain")) {
     o.gain = spec.get_number("gain", 0.0);
     if (*o.gain < 0.0) throw InputError("--source", 0, "gain", "'" + spec.text + "': gain must be >= 0");
+  }
+  if (spec.params.count("row_time_us")) {
+    // 1-200 us: FIELD_NOTES' webcams read a row in 15-45 us; outside that it is a typo (ns, ms).
+    o.row_time_us = spec.get_number("row_time_us", 0.0);
+    if (!(*o.row_time_us >= 1.0 && *o.row_time_us <= 200.0))
+      throw InputError("--source", 0, "row_time_us", "'" + spec.text + "': row_time_us must be 1-200 (microseconds per row)");
   }
   if (spec.params.count("format")) {
     try {
@@ -173,6 +179,25 @@ bool V4l2CameraSource::next(SensorData& out) {
                      "luxloc: %s: the driver gives no usable buffer timestamps; frames are stamped on "
                      "arrival (late by readout + transfer: correct with --clock-offset)\n",
                      name().c_str());
+    }
+    if (camera_->end_of_frame_stamped() && !warned_end_of_frame_) {
+      warned_end_of_frame_ = true;
+      if (loss_.report_to_stderr) {
+        const TimeNs shift = camera_->end_of_frame_shift_ns();
+        if (shift > 0)
+          std::fprintf(stderr,
+                       "luxloc: %s: the driver stamps the end of each frame; frames moved back by %.2f ms (%d rows x "
+                       "%.1f us + exposure %s) to row 0's exposure start\n",
+                       name().c_str(), 1e-6 * static_cast<double>(shift), camera_->height() - 1,
+                       *camera_->options().row_time_us,
+                       camera_->exposure_us() ? (std::to_string(static_cast<int>(*camera_->exposure_us())) + " us").c_str()
+                                              : "auto, not counted");
+        else
+          std::fprintf(stderr,
+                       "luxloc: %s: the driver stamps the end of each frame: frames are late by their readout; give "
+                       "row_time_us= (or --camera with row_time_us) to move them to row 0's exposure start\n",
+                       name().c_str());
+      }
     }
     out = std::move(f);
     return true;

@@ -70,6 +70,7 @@ class V4l2CameraSource final : public Source {
   std::atomic<bool> stop_{false};
   bool lost_ = false;
   bool warned_arrival_ = false;
+  bool warned_end_of_frame_ = false;
   mutable std::mutex failure_mutex_;
   std::string failure_;
   TimeNs last_t_ = 0;

@@ -5,6 +5,8 @@
 #include <sstream>
 #include <sys/wait.h>
 
+#include "app/run_session.hpp"
+#include "core/common/input_error.hpp"
 #include "core/eval/trajectory_io.hpp"
 #include "test_support.hpp"
 
@@ -111,4 +113,19 @@ TEST_CASE("SIGINT mid-session: exit 0, a complete parseable CSV with every pose 
   const auto at = output.find("luxloc: stopped: ");
   REQUIRE(at != std::string::npos);
   CHECK(std::stoul(output.substr(at + 17)) == rows.size());
+}
+
+TEST_CASE("run --camera hands a measured row time to a v4l2 source, never the 30 us guess", "[app][v4l2]") {
+  const auto dir = scratch_dir("run_row_time");
+  const std::string head =
+      "%YAML:1.0\n---\nimage_width: 640\nimage_height: 480\ncamera_matrix: !!opencv-matrix\n   rows: 3\n"
+      "   cols: 3\n   dt: d\n   data: [ 460., 0., 320., 0., 460., 240., 0., 0., 1. ]\n";
+  write_text(dir / "measured.yaml", head + "row_time_us: 14.565\n");
+  write_text(dir / "guess.yaml", head);
+  const auto measured = luxloc::app::measured_row_time_us((dir / "measured.yaml").string());
+  REQUIRE(measured.has_value());
+  CHECK(*measured == Approx(14.565));
+  CHECK_FALSE(luxloc::app::measured_row_time_us((dir / "guess.yaml").string()).has_value());
+  write_text(dir / "bad.yaml", head + "row_time_us: -3\n");
+  CHECK_THROWS_AS(luxloc::app::measured_row_time_us((dir / "bad.yaml").string()), luxloc::InputError);
 }

@@ -205,6 +205,44 @@ TEST_CASE("V4L2 buffer time stamps: monotonic, realtime (old drivers) and arriva
   CHECK(t <= monotonic_now_ns());
 }
 
+TEST_CASE("V4L2 end-of-frame stamps are moved back to row 0's exposure start when the row time is known", "[v4l2]") {
+  const TimeNs mono = 5'000 * kNsPerSecond, real = 1'700'000'000 * kNsPerSecond, d = 30'000'000;
+  // TSTAMP_SRC_EOF is the API's default (0); uvcvideo declares SOE.
+  CHECK(buffer_time(V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC | V4L2_BUF_FLAG_TSTAMP_SRC_EOF, mono - d, mono, real).end_of_frame);
+  CHECK_FALSE(buffer_time(V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC | V4L2_BUF_FLAG_TSTAMP_SRC_SOE, mono - d, mono, real).end_of_frame);
+  CHECK(buffer_time(V4L2_BUF_FLAG_TIMESTAMP_UNKNOWN, real - d, mono, real).end_of_frame);
+  CHECK_FALSE(buffer_time(V4L2_BUF_FLAG_TIMESTAMP_COPY, 123, mono, real).end_of_frame);  // arrival: no driver stamp
+
+  auto dev = std::make_shared<test::FakeV4l2Device>();
+  V4l2CameraOptions o = small();
+  o.row_time_us = 30.0;
+  V4l2Camera cam(o, dev);  // the fake sets 32x24
+  cv::Mat gray;
+  TimeNs t = 0;
+  const TimeNs stamp = monotonic_now_ns() - d;
+  const double exposure_us = cam.exposure_us().value_or(0.0);
+  const TimeNs shift = std::llround((exposure_us + (cam.height() - 1) * 30.0) * 1000.0);
+  CHECK(cam.end_of_frame_shift_ns() == shift);
+  CHECK(shift >= 23 * 30'000);
+  REQUIRE(dev->push_frame({yuyv_frame(64, 48, 1), std::nullopt, V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC | V4L2_BUF_FLAG_TSTAMP_SRC_EOF, stamp}));
+  REQUIRE(cam.grab(1000, -1, gray, t) == V4l2Camera::GrabStatus::frame);
+  CHECK(cam.end_of_frame_stamped());
+  CHECK(t == stamp / 1000 * 1000 - shift);
+  REQUIRE(dev->push_frame({yuyv_frame(64, 48, 1), std::nullopt, V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC | V4L2_BUF_FLAG_TSTAMP_SRC_SOE, stamp + d}));
+  REQUIRE(cam.grab(1000, -1, gray, t) == V4l2Camera::GrabStatus::frame);
+  CHECK_FALSE(cam.end_of_frame_stamped());
+  CHECK(t == (stamp + d) / 1000 * 1000);  // the start of exposure: as is
+
+  // Without the row time the stamp stays (and the source says the frames are late).
+  auto dev2 = std::make_shared<test::FakeV4l2Device>();
+  V4l2Camera plain(small(), dev2);
+  CHECK(plain.end_of_frame_shift_ns() == 0);
+  REQUIRE(dev2->push_frame({yuyv_frame(64, 48, 1), std::nullopt, V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC, stamp}));
+  REQUIRE(plain.grab(1000, -1, gray, t) == V4l2Camera::GrabStatus::frame);
+  CHECK(plain.end_of_frame_stamped());
+  CHECK(t == stamp / 1000 * 1000);
+}
+
 TEST_CASE("V4L2 fake device: exposure controls that the driver clamps, ignores or names the old way", "[v4l2]") {
   SECTION("current names: auto off first, dynamic frame rate off, then the exposure; a clamp is reported") {
     auto dev = std::make_shared<test::FakeV4l2Device>();

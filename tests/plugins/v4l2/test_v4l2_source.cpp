@@ -45,6 +45,8 @@ TEST_CASE("v4l2 spec: defaults, every option, and errors naming the key", "[v4l2
   CHECK(*o.format == PixelFormat::mjpeg);
   CHECK_FALSE(v4l2_options_from_spec(SourceSpec::parse("v4l2:/dev/video0,exposure_us=auto")).exposure_us.has_value());
   CHECK(*v4l2_options_from_spec(SourceSpec::parse("v4l2:/dev/video0,format=grey")).format == PixelFormat::grey);
+  CHECK_FALSE(o.row_time_us.has_value());
+  CHECK(*v4l2_options_from_spec(SourceSpec::parse("v4l2:/dev/video0,row_time_us=14.565")).row_time_us == 14.565);
 
   CHECK(input_error_field("v4l2:/dev/video0,width=abc") == "width");
   CHECK(input_error_field("v4l2:/dev/video0,width=-3") == "width");
@@ -54,6 +56,8 @@ TEST_CASE("v4l2 spec: defaults, every option, and errors naming the key", "[v4l2
   CHECK(input_error_field("v4l2:/dev/video0,exposure_us=fast") == "exposure_us");
   CHECK(input_error_field("v4l2:/dev/video0,gain=-1") == "gain");
   CHECK(input_error_field("v4l2:/dev/video0,format=rgb24") == "format");
+  CHECK(input_error_field("v4l2:/dev/video0,row_time_us=0.03") == "row_time_us");  // ms given as us
+  CHECK(input_error_field("v4l2:/dev/video0,row_time_us=30000") == "row_time_us");  // ns given as us
   CHECK(input_error_field("v4l2:/dev/video0,exposure=100") == "exposure");
   CHECK(input_error_field("v4l2:video0") == "--source");
   CHECK_THROWS_AS(SourceSpec::parse("v4l2:/dev/video0,width"), InputError);
