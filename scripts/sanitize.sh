@@ -49,10 +49,11 @@ case "$MODE" in
     # The threaded parts: the pipeline and its queues, live sources (serial, UWB, V4L2 fake
     # device, simulator in real time, plugins), live faults and the live UDP run.
     # Left out: the end-to-end live runs whose simulator renders camera frames in real time
-    # (`Live fault: luxloc run ...`): under TSan's 5-15x slowdown the frames arrive late and
-    # the timing checks fail; the pipeline parts they use run in the other live-fault tests.
+    # (`Live fault: luxloc run ...`, `Live lag: luxloc run ...`): under TSan's 5-15x slowdown
+    # the frames arrive late and the timing checks fail; the pipeline parts they use run in
+    # the other live-fault and pipeline tests.
     TESTS=(-R 'pipeline|Pipeline|queue|SPSC|spsc|[Ll]ive|serial|pty|V4L2|v4l2|sim source|clock|silence|plugin|udp|UDP|MQTT|mqtt'
-           -E '^Live fault: luxloc run')
+           -E '^Live (fault|lag): luxloc run')
     ;;
   *) echo "sanitize: unknown mode '$MODE' (asan | tsan)" >&2; exit 2 ;;
 esac
