@@ -13,10 +13,11 @@ using namespace luxloc::test;
 TEST_CASE("A live luxloc run streams flat JSON poses at the output rate to a loopback receiver", "[app][io]") {
   Receiver rx;
   const std::string demo = std::string(LUXLOC_SOURCE_DIR) + "/data/demo-walk";
-  // 2.5 s of real-time playback at the default 50 Hz output, then SIGINT.
+  // 4 s of real-time playback at the default 50 Hz output, then SIGINT (4 s, not 2.5: under
+  // TSan beside the headless-browser test the start alone took 1.4 s of it).
   const std::string cmd = "sh -c \"'" + std::string(LUXLOC_BIN) + "' run --playback '" + demo +
                           "' --realtime -q --udp 127.0.0.1:" + std::to_string(rx.port) +
-                          " & pid=\\$!; sleep 2.5; kill -INT \\$pid; wait \\$pid\" >/dev/null 2>&1";
+                          " & pid=\\$!; sleep 4; kill -INT \\$pid; wait \\$pid\" >/dev/null 2>&1";
   int rc = -1;
   std::thread runner([&] { rc = std::system(cmd.c_str()); });
   std::vector<std::map<std::string, double>> poses;
@@ -36,7 +37,7 @@ TEST_CASE("A live luxloc run streams flat JSON poses at the output rate to a loo
   const double rate = static_cast<double>(poses.size() - 1) / span;
   CHECK(rate == Approx(50.0).epsilon(0.05));
   CHECK(span > 1.5);
-  CHECK(span < 3.0);  // paced: not the whole 30 s session
+  CHECK(span < 4.5);  // paced: not the whole 30 s session
   // Inside the demo room.
   for (const auto& p : poses) {
     CHECK(p.at("x") > -1.0);
