@@ -85,10 +85,11 @@ TEST_CASE("Headless chromium watches a real-time playback of the demo session", 
   const auto dir = scratch_dir("web-playback");
   const int port = free_tcp_port();
   const std::string demo = std::string(LUXLOC_SOURCE_DIR) + "/data/demo-walk";
-  // 6 s of the 30 s session, then SIGINT: the stream ends and the browser's DOM is dumped.
+  // 9 s of the 30 s session, then SIGINT: the stream ends and the browser's DOM is dumped
+  // (9 s, not 6: under ASan on a busy machine chromium took over 4 s to connect and saw 1.9 s).
   std::thread run([&] {
     run_command("sh -c \"'" + std::string(LUXLOC_BIN) + "' run --playback '" + demo + "' --realtime -q --out /dev/null --web " +
-                std::to_string(port) + " & pid=\\$!; sleep 6; kill -INT \\$pid; wait \\$pid\" >/dev/null 2>&1");
+                std::to_string(port) + " & pid=\\$!; sleep 9; kill -INT \\$pid; wait \\$pid\" >/dev/null 2>&1");
   });
   for (int i = 0; i < 500 && !port_accepts(port); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
   const auto r = run_command("timeout 60 '" + browser + "' --headless --disable-gpu --no-sandbox --no-first-run " +
