@@ -102,9 +102,12 @@ TEST_CASE("sim faults: spec parsing, and errors naming the key", "[sim]") {
   CHECK(o.faults.clock_error_ns(2.0) == 10 * kNsPerSecond);
   CHECK(o.faults.clock_error_ns(6.0) == 0);
   CHECK(SimSource(o).name() == "sim:walk/imu+uwb");
+  CHECK(o.faults.lag_s == 0.0);
+  CHECK(SimSourceOptions::from_spec(SourceSpec::parse("sim:walk,lag=0.12")).faults.lag_s == 0.12);
   for (const auto& [spec, key] : std::vector<std::pair<std::string, std::string>>{
            {"sim:walk,streams=imux", "streams"}, {"sim:walk,stall=1", "stall"}, {"sim:walk,stall=1:0", "stall"},
-           {"sim:walk,flood=a:1", "flood"}, {"sim:walk,jump=-1:3", "jump"}, {"sim:walk,die=x", "die"}}) {
+           {"sim:walk,flood=a:1", "flood"}, {"sim:walk,jump=-1:3", "jump"}, {"sim:walk,die=x", "die"},
+           {"sim:walk,lag=-0.1", "lag"}, {"sim:walk,lag=120", "lag"}, {"sim:walk,lag=x", "lag"}}) {
     INFO(spec);
     try {
       (void)SimSourceOptions::from_spec(SourceSpec::parse(spec));
