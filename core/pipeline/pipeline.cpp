@@ -42,7 +42,7 @@ struct Lane {
   SourceLag lag;            // fusion thread
 };
 
-TimeNs as_ns(std::chrono::steady_clock::time_point t) {
+TimeNs as_ns(Clock::time_point t) {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(t.time_since_epoch()).count();
 }
 
@@ -157,9 +157,7 @@ PipelineReport Pipeline::run(FusionStage& stage) {
       if (!p) return false;
       pose_space_bell.ring();
       if (p->input_arrival_ns != 0) {
-        p->latency_s = 1e-9 * static_cast<double>(
-                                  std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now().time_since_epoch()).count() -
-                                  p->input_arrival_ns);
+        p->latency_s = 1e-9 * static_cast<double>(as_ns(Clock::now()) - p->input_arrival_ns);
         latency.add(p->latency_s);
       }
       for (std::size_t k = 0; k < sinks_.size(); ++k) {

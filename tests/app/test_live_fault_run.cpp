@@ -1,6 +1,7 @@
 // `luxloc run` with live sources that fail, as a user sees it (real fusion, real binary):
 // the camera stalls for 5 s while the IMU's clock jumps by +10 s and back by -10 s.
 #include <catch2/catch.hpp>
+#include <filesystem>
 #include <regex>
 #include <sstream>
 
@@ -38,14 +39,22 @@ std::smatch frames_report(const std::string& output) {
   return m;
 }
 
+// `luxloc run SOURCES --out DIR/poses.csv` in a scratch folder of its own.
+struct LiveRun {
+  std::filesystem::path poses;
+  CommandResult result;
+};
+LiveRun run_live(const std::string& scratch, const std::string& sources) {
+  const auto poses = scratch_dir(scratch) / "poses.csv";
+  return {poses, run_luxloc("run " + sources + " --out '" + poses.string() + "'")};
+}
+
 }  // namespace
 
 TEST_CASE("Live fault: luxloc run, camera stalled 5 s and IMU clock jumping +10 s and -10 s: poses go on, both reported", "[live-fault][app]") {
-  const auto dir = scratch_dir("live_fault_run");
-  const auto poses = dir / "poses.csv";
-  const CommandResult r = run_luxloc(
-      "run --source sim:walk,streams=imu,duration=12,jump=3:+10/7:-10 "
-      "--source sim:walk,streams=frames,duration=12,fps=15,stall=4:5 --out '" + poses.string() + "'");
+  const auto [poses, r] = run_live("live_fault_run",
+                                   "--source sim:walk,streams=imu,duration=12,jump=3:+10/7:-10 "
+                                   "--source sim:walk,streams=frames,duration=12,fps=15,stall=4:5");
   INFO(r.output);
   REQUIRE(r.exit_code == 0);
   // The 5 s stall is the longest silence. It is the only one unless the machine was so loaded
@@ -94,11 +103,9 @@ TEST_CASE("Live lag: luxloc run with a camera handed over 120 ms after its stamp
   // A webcam's frame is stamped at its exposure's start and delivered after readout and
   // transfer; at 120 ms (beyond the 60 ms reorder window) the merger used to drop every frame
   // as late. It learns the lag from the first frames and waits for the camera.
-  const auto dir = scratch_dir("live_lag_run");
-  const auto poses = dir / "poses.csv";
-  const CommandResult r = run_luxloc(
-      "run --source sim:walk,streams=imu,duration=6 "
-      "--source sim:walk,streams=frames,duration=6,fps=15,lag=0.12 --out '" + poses.string() + "'");
+  const auto [poses, r] = run_live("live_lag_run",
+                                   "--source sim:walk,streams=imu,duration=6 "
+                                   "--source sim:walk,streams=frames,duration=6,fps=15,lag=0.12");
   INFO(r.output);
   REQUIRE(r.exit_code == 0);
   CHECK_THAT(r.output, Catch::Contains("source sim:walk/frames") && Catch::Contains("arrived 12"));
