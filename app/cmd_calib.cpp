@@ -176,6 +176,11 @@ void collect_board_views(const CalibCameraArgs& a, const calib::CameraCalibOptio
 int run_calib_camera(const CalibCameraArgs& a) {
   if ((!a.images.empty()) + (!a.playback.empty()) + (!a.sources.empty()) != 1)
     throw InputError("calib camera", 0, "--images", "give one of --images DIR, --playback DIR or --source SPEC");
+  // The camera file's own bounds (CameraModel::load), checked before the calibration's work.
+  if (a.row_time_us > 0.0 && a.row_time_us < 1.0)
+    throw InputError("calib camera", 0, "--row-time-us", "must be 1-200 us (webcams: 15-45 us; 0: not measured)");
+  if (a.exposure_us > 0.0 && a.exposure_us < 1.0)
+    throw InputError("calib camera", 0, "--exposure-us", "must be 1-1000000 us (0: not given)");
   calib::CameraCalibOptions o;
   o.board = parse_board(a.board);
   o.square_m = a.square_m;
@@ -200,9 +205,12 @@ int run_calib_camera(const CalibCameraArgs& a) {
   } catch (const std::invalid_argument& e) {
     throw InputError(origin, 0, a.images.empty() ? "frames" : "--images", e.what());
   }
-  // Not entered: CameraModel's defaults stay (30 us rows, 100 us exposure), with a note.
-  if (a.row_time_us > 0.0) r.camera.row_time_s = a.row_time_us * 1e-6;
-  if (a.exposure_us > 0.0) r.camera.exposure_s = a.exposure_us * 1e-6;
+  // Not entered: left out of the file (a chessboard says nothing of timing), with a note; a
+  // reader falls back to 30 us rows / 100 us exposure and knows them for guesses.
+  r.camera.row_time_known = a.row_time_us > 0.0;
+  r.camera.exposure_known = a.exposure_us > 0.0;
+  if (r.camera.row_time_known) r.camera.row_time_s = a.row_time_us * 1e-6;
+  if (r.camera.exposure_known) r.camera.exposure_s = a.exposure_us * 1e-6;
   r.camera.save(a.out);
 
   const CameraModel& c = r.camera;
@@ -222,8 +230,9 @@ int run_calib_camera(const CalibCameraArgs& a) {
       std::printf("    %-24s %.3f px%s\n", v.name.c_str(), v.rms_px, v.used ? "" : "  REJECTED");
   }
   if (a.row_time_us <= 0.0)
-    std::printf("  note: --row-time-us not given: row_time_us %.1f written (a placeholder: measure it with `luxloc calib rowtime`)\n",
-                r.camera.row_time_s * 1e6);
+    std::printf("  note: --row-time-us not given: no row_time_us written (stripe decoding will assume %.0f us; measure it "
+                "with `luxloc calib rowtime --freq HZ --images DIR --camera %s --out %s`)\n",
+                r.camera.row_time_s * 1e6, a.out.c_str(), a.out.c_str());
   std::printf("  -> %s\n", a.out.c_str());
   std::fflush(stdout);
   return 0;
@@ -243,10 +252,10 @@ void add_calib_camera(CLI::App& calib, Action& action) {
   cmd->add_option("--square", args->square_m, "square side, m")->check(CLI::PositiveNumber)->capture_default_str();
   cmd->add_option("--out", args->out, "camera.yaml to write (SPEC.md camera file)")->required();
   cmd->add_option("--row-time-us", args->row_time_us, "rolling-shutter line readout time, us (measured with `calib rowtime`, "
-                                                      "or ~1e6 / (fps * total lines)); default 30")
-      ->check(CLI::Range(0.0, 1000.0))
+                                                      "or ~1e6 / (fps * total lines), 1-200); not given: left out of the file")
+      ->check(CLI::Range(0.0, 200.0))
       ->capture_default_str();
-  cmd->add_option("--exposure-us", args->exposure_us, "exposure time the VLC frames use, us; default 100")
+  cmd->add_option("--exposure-us", args->exposure_us, "exposure time the VLC frames use, us; not given: left out of the file")
       ->check(CLI::Range(0.0, 1e6))
       ->capture_default_str();
   cmd->add_flag("--k3", args->free_k3, "estimate k3 too (default: fixed at 0, as OpenCV's calibration sample)");

@@ -18,7 +18,6 @@
 #include "app/commands.hpp"
 #include "calib/led_layout.hpp"
 #include "core/common/input_error.hpp"
-#include "core/common/yaml_reader.hpp"
 #include "core/vlc/camera_model.hpp"
 #include "core/vlc/frequency_plan.hpp"
 #include "core/vlc/led_map.hpp"
@@ -48,13 +47,14 @@ struct PlanArgs {
 
 // The band depends on the row time and the exposure: CameraModel::load falls back to 30 us
 // and 100 us when a camera file lacks them, which would plan for a camera that is not there.
-void require_camera_timing(const std::string& path) {
-  const YamlFile f(path, "camera file");
-  for (const char* key : {"row_time_us", "exposure_us"})
-    if (yaml_absent(f[key]))
-      f.fail(key, "",
-             "missing: the frequency plan depends on it (luxloc calib rowtime measures the row time; the exposure is "
-             "the camera mode's)");
+CameraModel load_timed_camera(const std::string& path) {
+  CameraModel c = CameraModel::load(path);
+  const char* hint =
+      "missing: the frequency plan depends on it (luxloc calib rowtime measures the row time; the exposure is the "
+      "camera mode's)";
+  if (!c.row_time_known) throw InputError(path, 0, "row_time_us", hint);
+  if (!c.exposure_known) throw InputError(path, 0, "exposure_us", hint);
+  return c;
 }
 
 std::string fmt(const char* format, double v) {
@@ -83,8 +83,7 @@ int run_plan(const PlanArgs& a) {
   if (!std::isfinite(a.device_height_m))
     throw InputError("--device-height", 0, "--device-height", "not finite");
 
-  require_camera_timing(a.camera);
-  const CameraModel camera = CameraModel::load(a.camera);
+  const CameraModel camera = load_timed_camera(a.camera);
   const LedLayout layout = a.grid.empty() ? read_led_layout(a.layout, a.ceiling_z) : grid_led_layout(a.grid, a.ceiling_z);
   const std::string source = a.grid.empty() ? a.layout : "grid " + a.grid;
 

@@ -98,14 +98,19 @@ int run_calib_rowtime(const CalibRowTimeArgs& a) {
   std::printf("calib rowtime: %d of %d frames used: row time %.4f us (spread %.4f us, range %.4f-%.4f)\n", s.used,
               s.frames, s.row_time_s * 1e6, s.spread_s * 1e6, s.min_s * 1e6, s.max_s * 1e6);
   if (camera) {
-    std::printf("  %s had row_time_us %.4f: %+.2f %%\n", a.camera.c_str(), camera->row_time_s * 1e6,
-                100.0 * (s.row_time_s - camera->row_time_s) / camera->row_time_s);
+    if (camera->row_time_known)
+      std::printf("  %s had row_time_us %.4f: %+.2f %%\n", a.camera.c_str(), camera->row_time_s * 1e6,
+                  100.0 * (s.row_time_s - camera->row_time_s) / camera->row_time_s);
+    else
+      std::printf("  %s had no row_time_us (decoding assumed %.0f us: %+.2f %%)\n", a.camera.c_str(),
+                  camera->row_time_s * 1e6, 100.0 * (s.row_time_s - camera->row_time_s) / camera->row_time_s);
     if (size_mismatch > 0)
       std::printf("  warning: %d frames differ in size from the camera file's %dx%d: another mode?\n", size_mismatch,
                   camera->width, camera->height);
   }
   if (!a.out.empty()) {
     camera->row_time_s = s.row_time_s;
+    camera->row_time_known = true;
     camera->save(a.out);
     std::printf("  -> %s\n", a.out.c_str());
   }

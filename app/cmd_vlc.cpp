@@ -479,10 +479,10 @@ int run_vlc(const VlcArgs& a) {
                  freq_ratio.size());
     if (std::abs(ratio - 1.0) > kRowTimeHintFraction)
       std::fprintf(g_report,
-                   "  the LEDs read %.1f %% %s: camera.yaml's row_time_us %.3f is probably %.3f; measure it with "
+                   "  the LEDs read %.1f %% %s: camera.yaml's row_time_us %.3f%s is probably %.3f; measure it with "
                    "`luxloc calib rowtime` (or check the map's frequencies)\n",
                    100.0 * std::abs(ratio - 1.0), ratio > 1.0 ? "high" : "low", camera->row_time_s * 1e6,
-                   camera->row_time_s * ratio * 1e6);
+                   camera->row_time_known ? "" : " (not in the file: a guess)", camera->row_time_s * ratio * 1e6);
   }
   if (!rejected.empty()) {
     std::fprintf(g_report, "rejected blobs by reason:\n");

@@ -393,10 +393,8 @@ void for_each_frame(OpenedSources& opened, const std::function<bool()>& more,
 
 std::optional<double> measured_row_time_us(const std::string& camera_path) {
   const CameraModel cam = CameraModel::load(camera_path);  // validates the file (InputError naming key)
-  // Only a measured row time: without the key CameraModel falls back to a 30 us guess.
-  if (const cv::FileStorage fs(camera_path, cv::FileStorage::READ); !fs["row_time_us"].empty())
-    return cam.row_time_s * 1e6;
-  return std::nullopt;
+  if (!cam.row_time_known) return std::nullopt;            // CameraModel's 30 us guess: never shift stamps by it
+  return cam.row_time_s * 1e6;
 }
 
 OpenedSources open_run_sources(const RunConfig& c) {

@@ -64,8 +64,17 @@ CameraModel CameraModel::load(const std::string& path) {
                            "rational / thin-prism terms (k4..) are not supported; recalibrate with 5");
     for (int i = 0; i < std::min(n, 5); ++i) c.dist[static_cast<std::size_t>(i)] = D.at<double>(i);
   }
-  c.row_time_s = read_positive(f, "row_time_us", false, 30.0) * 1e-6;
-  c.exposure_s = read_positive(f, "exposure_us", false, 100.0) * 1e-6;
+  c.row_time_known = !f["row_time_us"].empty();
+  c.exposure_known = !f["exposure_us"].empty();
+  const double row_time_us = read_positive(f, "row_time_us", false, 30.0);
+  const double exposure_us = read_positive(f, "exposure_us", false, 100.0);
+  // Physically impossible timings are refused here, at the edge: a row time beyond 200 us
+  // would read a 480-row frame in > 96 ms (no video mode), below 1 us is a unit slip (ms?).
+  if (!(row_time_us >= 1.0 && row_time_us <= 200.0))
+    f.fail("row_time_us", "", "must be 1-200 (microseconds per row; webcams read a row in 15-45 us)");
+  if (!(exposure_us >= 1.0 && exposure_us <= 1e6)) f.fail("exposure_us", "", "must be 1-1000000 (microseconds)");
+  c.row_time_s = row_time_us * 1e-6;
+  c.exposure_s = exposure_us * 1e-6;
   const cv::Mat R = read_matrix(f, "R_body_camera", 3, 3, false);
   if (!R.empty()) {
     for (int r = 0; r < 3; ++r)
@@ -86,7 +95,9 @@ void CameraModel::save(const std::string& path) const {
   fs << "image_width" << width << "image_height" << height;
   fs << "camera_matrix" << cv::Mat(cv::Matx33d(fx, 0, cx, 0, fy, cy, 0, 0, 1));
   fs << "distortion_coefficients" << cv::Mat(1, 5, CV_64F, const_cast<double*>(dist.data())).clone();
-  fs << "row_time_us" << row_time_s * 1e6 << "exposure_us" << exposure_s * 1e6;
+  // A guessed timing is left out, so the file says what is known (load() guesses again).
+  if (row_time_known) fs << "row_time_us" << row_time_s * 1e6;
+  if (exposure_known) fs << "exposure_us" << exposure_s * 1e6;
   cv::Mat R(3, 3, CV_64F), t(3, 1, CV_64F);
   for (int r = 0; r < 3; ++r) {
     for (int k = 0; k < 3; ++k) R.at<double>(r, k) = R_CtoB(r, k);

@@ -15,10 +15,17 @@ struct CameraModel {
   std::array<double, 5> dist{0, 0, 0, 0, 0};  // k1 k2 p1 p2 k3
   double row_time_s = 30e-6;                  // rolling-shutter line readout time
   double exposure_s = 100e-6;
+  // Whether row_time_s / exposure_s were measured or entered (set in code, or the file's key)
+  // rather than the 30 us / 100 us guesses load() falls back to. A guess is never saved, and
+  // what shifts timestamps by it (V4L2 end-of-frame stamps) or plans from it (calib ledmap
+  // plan) asks for a known value.
+  bool row_time_known = true;
+  bool exposure_known = true;
   Eigen::Matrix3d R_CtoB = Eigen::Matrix3d::Identity();
   Eigen::Vector3d p_CinB = Eigen::Vector3d::Zero();
 
-  // Reads camera.yaml; throws InputError naming the file and key.
+  // Reads camera.yaml; throws InputError naming the file and key. row_time_us must be
+  // 1-200 us (webcams: 15-45 us), exposure_us 1 us-1 s.
   static CameraModel load(const std::string& path);
   void save(const std::string& path) const;
 

@@ -129,4 +129,13 @@ TEST_CASE("run --camera hands a measured row time to a v4l2 source, never the 30
   CHECK_FALSE(luxloc::app::measured_row_time_us((dir / "guess.yaml").string()).has_value());
   write_text(dir / "bad.yaml", head + "row_time_us: -3\n");
   CHECK_THROWS_AS(luxloc::app::measured_row_time_us((dir / "bad.yaml").string()), luxloc::InputError);
+  // Beyond a camera's rows (the v4l2 source's own bound is 1-200 us): the camera file and its
+  // key are named, not the --source the value would have been handed to.
+  write_text(dir / "slow.yaml", head + "row_time_us: 250\n");
+  const auto r = run_luxloc("run --source v4l2:/dev/null --camera '" + (dir / "slow.yaml").string() + "' --out '" +
+                            (dir / "out.csv").string() + "'");
+  INFO(r.output);
+  CHECK(r.exit_code == 2);
+  CHECK_THAT(r.output, Catch::Contains("slow.yaml") && Catch::Contains("row_time_us") && Catch::Contains("1-200"));
+  CHECK_THAT(r.output, !Catch::Contains("--source"));
 }

@@ -228,6 +228,22 @@ TEST_CASE("luxloc calib camera: a folder of board images -> camera.yaml that run
   CHECK(std::abs(c.fx / 600.0 - 1.0) < 0.005);
   CHECK(std::abs(c.cy - 236.0) < 2.0);
   CHECK(c.row_time_s == Approx(28.5e-6));
+  CHECK(c.row_time_known);
+
+  // Without --row-time-us the file holds no row time: a guess must not read as measured
+  // (run --camera would shift V4L2 end-of-frame stamps by it, calib ledmap plan plan with it).
+  const auto unmeasured = dir / "unmeasured.yaml";
+  const auto u = test::run_luxloc("calib camera --images '" + images.string() + "' --board 9x6 --square 0.025 --out '" +
+                                  unmeasured.string() + "'");
+  INFO(u.output);
+  REQUIRE(u.exit_code == 0);
+  CHECK(u.output.find("no row_time_us written") != std::string::npos);
+  CHECK(test::read_text(unmeasured).find("row_time_us") == std::string::npos);
+  CHECK_FALSE(CameraModel::load(unmeasured.string()).row_time_known);
+  const auto slip = test::run_luxloc("calib camera --images '" + images.string() + "' --out '" +
+                                     (dir / "x.yaml").string() + "' --row-time-us 0.03");
+  CHECK(slip.exit_code == 2);
+  CHECK(slip.output.find("--row-time-us") != std::string::npos);
 
   const auto empty = dir / "empty";
   std::filesystem::create_directories(empty);

@@ -177,6 +177,39 @@ TEST_CASE("camera reader: structural errors name the file and the key", "[yaml]"
   expect_error("camera.yaml", camera_with("R_body_camera", " [ [1, 0, 0], [0, 1, 0], [0, 0, 1] ]\n"), load,
                "R_body_camera", "expected an opencv-matrix");
   expect_error("camera.yaml", camera_with("row_time_us", " { us: 30 }\n"), load, "row_time_us", "not a number");
+  // Physically impossible timings (a row time in seconds or in ns, a 2 s exposure).
+  expect_error("camera.yaml", camera_with("row_time_us", " 0.00003\n"), load, "row_time_us", "must be 1-200");
+  expect_error("camera.yaml", camera_with("row_time_us", " 30000.\n"), load, "row_time_us", "must be 1-200");
+  expect_error("camera.yaml", camera_with("row_time_us", " 30.\nexposure_us: 2e6\n"), load, "exposure_us",
+               "must be 1-1000000");
+}
+
+TEST_CASE("camera file: a row time or exposure not in the file is a known guess, never saved as measured", "[yaml]") {
+  const fs::path dir = test::scratch_dir("yaml_readers_camera_timing");
+  // camera_with() writes row_time_us (here 200 us) and no exposure_us.
+  test::write_text(dir / "measured.yaml", camera_with("row_time_us", " 200.\n"));
+  const CameraModel m = CameraModel::load((dir / "measured.yaml").string());
+  CHECK(m.row_time_known);
+  CHECK(m.row_time_s == Approx(200e-6));  // the bound itself is accepted
+  CHECK_FALSE(m.exposure_known);
+  CHECK(m.exposure_s == Approx(100e-6));  // the fallback, known to be one
+  m.save((dir / "resaved.yaml").string());
+  const std::string text = test::read_text(dir / "resaved.yaml");
+  CHECK(text.find("row_time_us") != std::string::npos);
+  CHECK(text.find("exposure_us") == std::string::npos);  // the guess is not written as if measured
+  const CameraModel again = CameraModel::load((dir / "resaved.yaml").string());
+  CHECK(again.row_time_known);
+  CHECK_FALSE(again.exposure_known);
+
+  CameraModel guessed = m;
+  guessed.row_time_known = false;
+  guessed.exposure_known = true;
+  guessed.save((dir / "guessed.yaml").string());
+  const CameraModel g = CameraModel::load((dir / "guessed.yaml").string());
+  CHECK_FALSE(g.row_time_known);
+  CHECK(g.row_time_s == Approx(30e-6));
+  CHECK(g.exposure_known);
+  CHECK(g.exposure_s == Approx(100e-6));
 }
 
 TEST_CASE("session.yaml reader: structural errors name the file and the key", "[yaml]") {
