@@ -23,6 +23,7 @@
 #include "calib/camera_calibrator.hpp"
 #include "calib/imu_calibrator.hpp"
 #include "core/common/input_error.hpp"
+#include "core/vlc/camera_model.hpp"
 #include "plugins/playback/imu_csv_source.hpp"
 
 namespace luxloc::app {
@@ -176,10 +177,11 @@ void collect_board_views(const CalibCameraArgs& a, const calib::CameraCalibOptio
 int run_calib_camera(const CalibCameraArgs& a) {
   if ((!a.images.empty()) + (!a.playback.empty()) + (!a.sources.empty()) != 1)
     throw InputError("calib camera", 0, "--images", "give one of --images DIR, --playback DIR or --source SPEC");
-  // The camera file's own bounds (CameraModel::load), checked before the calibration's work.
-  if (a.row_time_us > 0.0 && a.row_time_us < 1.0)
+  // The camera file's own bounds (CameraModel::plausible_*), checked before the calibration's
+  // work; 0 is "not given".
+  if (a.row_time_us != 0.0 && !CameraModel::plausible_row_time_us(a.row_time_us))
     throw InputError("calib camera", 0, "--row-time-us", "must be 1-200 us (webcams: 15-45 us; 0: not measured)");
-  if (a.exposure_us > 0.0 && a.exposure_us < 1.0)
+  if (a.exposure_us != 0.0 && !CameraModel::plausible_exposure_us(a.exposure_us))
     throw InputError("calib camera", 0, "--exposure-us", "must be 1-1000000 us (0: not given)");
   calib::CameraCalibOptions o;
   o.board = parse_board(a.board);
@@ -253,10 +255,10 @@ void add_calib_camera(CLI::App& calib, Action& action) {
   cmd->add_option("--out", args->out, "camera.yaml to write (SPEC.md camera file)")->required();
   cmd->add_option("--row-time-us", args->row_time_us, "rolling-shutter line readout time, us (measured with `calib rowtime`, "
                                                       "or ~1e6 / (fps * total lines), 1-200); not given: left out of the file")
-      ->check(CLI::Range(0.0, 200.0))
+      ->check(CLI::Range(0.0, CameraModel::kMaxRowTimeUs))
       ->capture_default_str();
   cmd->add_option("--exposure-us", args->exposure_us, "exposure time the VLC frames use, us; not given: left out of the file")
-      ->check(CLI::Range(0.0, 1e6))
+      ->check(CLI::Range(0.0, CameraModel::kMaxExposureUs))
       ->capture_default_str();
   cmd->add_flag("--k3", args->free_k3, "estimate k3 too (default: fixed at 0, as OpenCV's calibration sample)");
   cmd->add_option("--reject-factor", args->reject_factor,

@@ -10,7 +10,6 @@
 #include <memory>
 #include <optional>
 #include <ostream>
-#include <opencv2/core/persistence.hpp>
 #include <tbb/global_control.h>
 
 #include "core/common/input_error.hpp"

@@ -68,11 +68,10 @@ CameraModel CameraModel::load(const std::string& path) {
   c.exposure_known = !f["exposure_us"].empty();
   const double row_time_us = read_positive(f, "row_time_us", false, 30.0);
   const double exposure_us = read_positive(f, "exposure_us", false, 100.0);
-  // Physically impossible timings are refused here, at the edge: a row time beyond 200 us
-  // would read a 480-row frame in > 96 ms (no video mode), below 1 us is a unit slip (ms?).
-  if (!(row_time_us >= 1.0 && row_time_us <= 200.0))
+  // Physically impossible timings are refused here, at the edge.
+  if (!plausible_row_time_us(row_time_us))
     f.fail("row_time_us", "", "must be 1-200 (microseconds per row; webcams read a row in 15-45 us)");
-  if (!(exposure_us >= 1.0 && exposure_us <= 1e6)) f.fail("exposure_us", "", "must be 1-1000000 (microseconds)");
+  if (!plausible_exposure_us(exposure_us)) f.fail("exposure_us", "", "must be 1-1000000 (microseconds)");
   c.row_time_s = row_time_us * 1e-6;
   c.exposure_s = exposure_us * 1e-6;
   const cv::Mat R = read_matrix(f, "R_body_camera", 3, 3, false);

@@ -24,8 +24,16 @@ struct CameraModel {
   Eigen::Matrix3d R_CtoB = Eigen::Matrix3d::Identity();
   Eigen::Vector3d p_CinB = Eigen::Vector3d::Zero();
 
-  // Reads camera.yaml; throws InputError naming the file and key. row_time_us must be
-  // 1-200 us (webcams: 15-45 us), exposure_us 1 us-1 s.
+  // What a camera can have, wherever a row time or exposure enters (camera.yaml, a v4l2
+  // source's row_time_us=, calib camera): a row time beyond 200 us would read a 480-row
+  // frame in > 96 ms (no video mode; webcams read a row in 15-45 us), below 1 us is a unit
+  // slip (ns, ms); an exposure of 1 us to 1 s.
+  static constexpr double kMinRowTimeUs = 1.0, kMaxRowTimeUs = 200.0;
+  static constexpr double kMinExposureUs = 1.0, kMaxExposureUs = 1e6;
+  static bool plausible_row_time_us(double us) { return us >= kMinRowTimeUs && us <= kMaxRowTimeUs; }
+  static bool plausible_exposure_us(double us) { return us >= kMinExposureUs && us <= kMaxExposureUs; }
+
+  // Reads camera.yaml; throws InputError naming the file and key (timings as above).
   static CameraModel load(const std::string& path);
   void save(const std::string& path) const;
 

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "core/common/input_error.hpp"
+#include "core/vlc/camera_model.hpp"
 #include "plugins/serial/monotonic_clock.hpp"
 
 namespace luxloc {
@@ -60,9 +61,9 @@ V4l2CameraOptions v4l2_options_from_spec(const SourceSpec& spec) {
     if (*o.gain < 0.0) throw InputError("--source", 0, "gain", "'" + spec.text + "': gain must be >= 0");
   }
   if (spec.params.count("row_time_us")) {
-    // 1-200 us: FIELD_NOTES' webcams read a row in 15-45 us; outside that it is a typo (ns, ms).
+    // The camera file's bounds (CameraModel::plausible_row_time_us): outside, a typo (ns, ms).
     o.row_time_us = spec.get_number("row_time_us", 0.0);
-    if (!(*o.row_time_us >= 1.0 && *o.row_time_us <= 200.0))
+    if (!CameraModel::plausible_row_time_us(*o.row_time_us))
       throw InputError("--source", 0, "row_time_us", "'" + spec.text + "': row_time_us must be 1-200 (microseconds per row)");
   }
   if (spec.params.count("format")) {

@@ -217,9 +217,12 @@ TEST_CASE("luxloc calib camera: a folder of board images -> camera.yaml that run
     ++k;
   }
   test::write_text(images / "notes.txt", "not an image");
+  const auto calibrate = [&images](const std::filesystem::path& out, const std::string& extra) {
+    return test::run_luxloc("calib camera --images '" + images.string() + "' --board 9x6 --square 0.025 --out '" +
+                            out.string() + "'" + extra);
+  };
   const auto out = dir / "camera.yaml";
-  const auto r = test::run_luxloc("calib camera --images '" + images.string() + "' --board 9x6 --square 0.025 --out '" +
-                                  out.string() + "' --row-time-us 28.5");
+  const auto r = calibrate(out, " --row-time-us 28.5");
   INFO(r.output);
   REQUIRE(r.exit_code == 0);
   CHECK(r.output.find("6 boards found, 6 used") != std::string::npos);
@@ -233,8 +236,7 @@ TEST_CASE("luxloc calib camera: a folder of board images -> camera.yaml that run
   // Without --row-time-us the file holds no row time: a guess must not read as measured
   // (run --camera would shift V4L2 end-of-frame stamps by it, calib ledmap plan plan with it).
   const auto unmeasured = dir / "unmeasured.yaml";
-  const auto u = test::run_luxloc("calib camera --images '" + images.string() + "' --board 9x6 --square 0.025 --out '" +
-                                  unmeasured.string() + "'");
+  const auto u = calibrate(unmeasured, "");
   INFO(u.output);
   REQUIRE(u.exit_code == 0);
   CHECK(u.output.find("no row_time_us written") != std::string::npos);
