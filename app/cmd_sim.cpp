@@ -44,6 +44,7 @@ struct SimArgs {
   std::string imu_grade;
   std::string mag_disturbance;
   std::string walker = "default";
+  double heel_impact_g = 0.0;  // --heel-impact: each heel strike's spike, g
   std::string gyro_bias_dps;  // "B" or "BX,BY,BZ": a fixed gyro bias
   std::optional<double> gyro_bias_rw_dps;
   std::optional<double> acc_bias_mps2;
@@ -121,12 +122,18 @@ int run_sim(const SimArgs& a) {
   options.render.read_noise_dn = a.read_noise_dn;
   for (const std::string& b : a.blackouts) options.blackouts.push_back(parse_blackout(b));
   sim::Scenario scenario = sim::make_scenario(a.scenario);
-  if (a.walker == "random") {
+  if (a.walker != "default" || a.heel_impact_g > 0.0) {
+    const char* option = a.walker != "default" ? "--walker" : "--heel-impact";
     if (!scenario.walk)
-      throw InputError("--walker", 0, "--walker", "scenario '" + a.scenario + "' has no walker to replace");
+      throw InputError(option, 0, option, "scenario '" + a.scenario + "' has no walker to replace");
     const double duration = a.duration_s > 0.0 ? a.duration_s : scenario.duration_s;
-    options.walker = sim::draw_walker(a.seed, duration);
-    scenario.trajectory = std::make_shared<sim::WalkTrajectory>(sim::apply_walker(*scenario.walk, *options.walker));
+    sim::WalkOptions walk = *scenario.walk;
+    if (a.walker != "default") {
+      options.walker = a.walker == "fast" ? sim::draw_fast_walker(a.seed, duration) : sim::draw_walker(a.seed, duration);
+      walk = sim::apply_walker(walk, *options.walker);
+    }
+    walk.gait.heel_impact_mps2 = options.heel_impact_mps2 = a.heel_impact_g * sim::kGravity;
+    scenario.trajectory = std::make_shared<sim::WalkTrajectory>(walk);
   }
   if (!a.kidnap.empty()) {
     // The carry covers the camera: a blackout from the pick-up to the put-down.
@@ -224,10 +231,16 @@ void add_sim_command(CLI::App& root, Action& action) {
                   "bias walk, scale errors), poor (docs/SIMULATOR.md)")
       ->check(CLI::IsMember(sim::imu_grade_names()));
   cmd->add_option("--walker", args->walker,
-                  "the pedestrian: default (the scenario's) or random (drawn from --seed: step length 0.35-0.85 m, "
-                  "cadence 1.4-2.2 Hz, turns, bounce, sway, stops of 1-10 s; written to sim_truth.yaml)")
-      ->check(CLI::IsMember({"default", "random"}))
+                  "the pedestrian: default (the scenario's), random (drawn from --seed: step length 0.35-0.85 m, "
+                  "cadence 1.4-2.2 Hz, turns, bounce, sway, stops of 1-10 s) or fast (the same draw at 1.7 m/s, "
+                  "1.9-2.2 Hz); written to sim_truth.yaml")
+      ->check(CLI::IsMember({"default", "random", "fast"}))
       ->capture_default_str();
+  cmd->add_option("--heel-impact", args->heel_impact_g,
+                  "each heel strike adds a vertical acceleration spike this high, in g (a device on the leg, in a "
+                  "pocket or on the hip; ~50 ms, zero net velocity: 11 gives the accelerometer ~12 g peaks); 0: none")
+      ->check(CLI::Range(0.0, 14.0))
+      ->type_name("G");
   cmd->add_option("--mag-disturbance", args->mag_disturbance,
                   "magnetic disturbance: none, steel (a pillar beside the path at 30 % of the run), magnet (carried "
                   "past at 60 %), both")

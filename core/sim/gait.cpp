@@ -65,6 +65,23 @@ Jet Gait::walked_time(double t) const {
 
 Jet Gait::step_phase(double t) const { return 2.0 * std::numbers::pi * opt_.step_hz * walked_time(t); }
 
+std::optional<double> Gait::heel_strike_near(double t, double window_s) const {
+  // f G(t) is non-decreasing: a strike (f G = k, k >= 1) lies in [t - w, t + w] when an
+  // integer lies in (f G(t - w), f G(t + w)]; bisection finds its first time.
+  const double s0 = opt_.step_hz * walked_time(t - window_s).v, s1 = opt_.step_hz * walked_time(t + window_s).v;
+  const double k = std::floor(s1);
+  if (!(k > s0) || k < 1.0) return std::nullopt;
+  // To the last bit: the same strike time whatever the window (a jitter of 1 ns would move
+  // the impact's velocity by ~1e-9 m and show in finite differences of the truth).
+  double lo = t - window_s, hi = t + window_s;
+  for (int it = 0; it < 200; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    if (mid <= lo || mid >= hi) break;
+    (opt_.step_hz * walked_time(mid).v >= k ? hi : lo) = mid;
+  }
+  return hi;
+}
+
 std::vector<double> Gait::heel_strikes(double until_s) const {
   std::vector<double> out;
   const double steps_total = opt_.step_hz * walked_time(until_s).v;

@@ -3,6 +3,7 @@
 // 1 walking at the nominal speed) made of walking intervals with C2 ramps, its integral
 // G(t) ("walking time"), and the step phase phi = 2 pi f_step G(t). Heel strikes happen at
 // phi = 2 pi k, so the cadence slows with the envelope and freezes during stops.
+#include <optional>
 #include <vector>
 
 #include "core/sim/jet.hpp"
@@ -24,6 +25,15 @@ struct GaitOptions {
   double pitch_sway_rad = 0.035;   // 2.0 deg at the step frequency
   double yaw_sway_rad = 0.017;     // 1.0 deg at the stride frequency
   double min_step_envelope = 0.5;  // heel strikes where g(t) < this are not counted as steps
+  // Heel-strike impact (issue 12: "fast walking (1.7 m/s, 12 g peaks)"): a device on the leg,
+  // in a trouser pocket or on the hip sees each heel strike as a short spike of vertical
+  // acceleration, several g high. Modelled as z -= A w^2 g(t_k)^2 exp(-(t - t_k)^2 / (2 w^2))
+  // at every heel strike t_k: the acceleration then peaks at +A at the strike with negative
+  // lobes of -0.45 A either side, and the velocity and position come back after the spike
+  // (a 1-2 cm dip), so the truth and the IMU stay consistent. 0 = none (every scenario).
+  double heel_impact_mps2 = 0.0;
+  // w: 12 ms, a spike of ~50 ms base, within the 10-50 ms of measured shank and hip impacts.
+  double heel_impact_width_s = 0.012;
 };
 
 class Gait {
@@ -35,6 +45,8 @@ class Gait {
   Jet walked_time(double t) const;   // G = integral of g, with G' = g and G'' = g'
   Jet step_phase(double t) const;    // phi = 2 pi step_hz G (radians)
   std::vector<double> heel_strikes(double until_s) const;
+  // The heel strike nearest to t within +-window_s (any envelope), if one is.
+  std::optional<double> heel_strike_near(double t, double window_s) const;
   const GaitOptions& options() const { return opt_; }
 
  private:

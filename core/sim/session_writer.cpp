@@ -169,6 +169,9 @@ void write_sim_truth(const Simulator& sim, const fs::path& p) {
       fs << "{:" << "start_s" << i.start_s << "stop_s" << (std::isfinite(i.stop_s) ? i.stop_s : -1.0) << "}";
     fs << "]" << "}";
   }
+  if (o.heel_impact_mps2 > 0.0)
+    fs << "heel_impact" << "{" << "peak_mps2" << o.heel_impact_mps2 << "width_s" << GaitOptions{}.heel_impact_width_s
+       << "}";
   if (o.kidnap) {
     const SimOptions::Kidnap& k = *o.kidnap;
     fs << "kidnap" << "{" << "start_s" << k.start_s << "end_s" << k.end_s << "from" << "[:" << k.from.x() << k.from.y()

@@ -41,6 +41,9 @@ struct SimOptions {
   // The walker drawn by `--walker random` (already in the scenario's trajectory; kept here
   // for sim_truth.yaml).
   std::optional<WalkerDraw> walker;
+  // The heel-strike impacts' peak (GaitOptions::heel_impact_mps2, `--heel-impact`), m/s^2;
+  // 0: none. For sim_truth.yaml.
+  double heel_impact_mps2 = 0.0;
   // A kidnap in the trajectory (kidnap_trajectory.hpp; the carry is also a blackout), for
   // sim_truth.yaml: when the device was picked up and put down, and where.
   struct Kidnap {

@@ -1,5 +1,6 @@
 #include "core/sim/walk_trajectory.hpp"
 
+#include <cmath>
 #include <numbers>
 
 namespace luxloc::sim {
@@ -16,6 +17,21 @@ Jet WalkTrajectory::path_parameter(double t_s) const {
          (g.speed_mps * g.speed_modulation / (2.0 * std::numbers::pi * g.step_hz)) * sin(phi);
 }
 
+// GaitOptions::heel_impact_mps2: -A w^2 e(tau) with e = exp(-tau^2 / (2 w^2)), tau = t - t_k;
+// its derivatives A tau e and A (1 - tau^2 / w^2) e (+A at the strike, zero net velocity).
+// Beyond 6 w the spike is below 1e-7 A. The amplitude follows the envelope squared at the
+// strike, so the small steps of a start or stop ramp land softly.
+Jet WalkTrajectory::heel_impact(double t_s) const {
+  const GaitOptions& g = opt_.gait;
+  const double w = g.heel_impact_width_s;
+  const std::optional<double> tk = gait_.heel_strike_near(t_s, 6.0 * w);
+  if (!tk) return Jet::constant(0.0);
+  const double env = gait_.envelope(*tk).v;
+  const double a = g.heel_impact_mps2 * env * env, tau = t_s - *tk;
+  const double e = std::exp(-0.5 * tau * tau / (w * w));
+  return {-a * w * w * e, a * tau * e, a * (1.0 - tau * tau / (w * w)) * e};
+}
+
 BodyState WalkTrajectory::state(double t_s) const {
   const GaitOptions& g = opt_.gait;
   const Jet u = path_parameter(t_s);
@@ -30,7 +46,8 @@ BodyState WalkTrajectory::state(double t_s) const {
   const Jet env = gait_.envelope(t_s);
   const Jet phi = gait_.step_phase(t_s);
   const Jet half = 0.5 * phi;  // stride phase: sways alternate left / right every step
-  const Jet z = opt_.height_m - g.bounce_m * (env * cos(phi));
+  Jet z = opt_.height_m - g.bounce_m * (env * cos(phi));
+  if (g.heel_impact_mps2 > 0.0) z = z + heel_impact(t_s);
   const Jet roll = g.roll_sway_rad * (env * sin(half));
   const Jet pitch = g.pitch_sway_rad * (env * sin(phi));
   const Jet yaw = heading + g.yaw_sway_rad * (env * cos(half));

@@ -31,6 +31,8 @@ class WalkTrajectory final : public Trajectory {
   const Gait& gait() const { return gait_; }
   // Path parameter (polygon arc length) reached at time t, with its derivatives.
   Jet path_parameter(double t_s) const;
+  // The vertical displacement of the heel-strike impacts at t (GaitOptions::heel_impact_mps2).
+  Jet heel_impact(double t_s) const;
 
  private:
   WalkOptions opt_;

@@ -28,10 +28,14 @@ struct WalkerDraw {
   std::vector<WalkInterval> walking;
 };
 
-inline constexpr const char* kWalkerNames[] = {"default", "random"};
+inline constexpr const char* kWalkerNames[] = {"default", "random", "fast"};
 
 // The walker of session `seed` over `duration_s` (the first 2 s standing, as every walk).
 WalkerDraw draw_walker(std::uint64_t seed, double duration_s);
+// A fast walker (issue 12: "fast walking (1.7 m/s, 12 g peaks) keeps its step length"): the
+// walker of draw_walker(seed) at 1.7 m/s, cadence 1.9-2.2 Hz (steps of 0.77-0.89 m), its
+// bounce grown with the step by the same rule.
+WalkerDraw draw_fast_walker(std::uint64_t seed, double duration_s);
 // `base` (a scenario's walk: its path and height) walked by `w`.
 WalkOptions apply_walker(WalkOptions base, const WalkerDraw& w);
 

@@ -57,3 +57,50 @@ TEST_CASE("apply_walker walks the scenario's path with the drawn gait", "[sim][w
   CHECK(strikes[k] - strikes[k - 1] == Approx(1.0 / w.step_hz).epsilon(0.02));
   CHECK_FALSE(make_scenario("static").walk);  // nothing to replace there
 }
+
+TEST_CASE("draw_fast_walker: 1.7 m/s at 1.9-2.2 Hz, the rest of the seed's walker kept", "[sim][walker]") {
+  for (std::uint64_t seed = 1; seed <= 100; ++seed) {
+    const WalkerDraw w = draw_walker(seed, 90.0), f = draw_fast_walker(seed, 90.0);
+    INFO("seed " << seed);
+    CHECK(f.speed_mps == 1.7);
+    CHECK(f.step_hz >= 1.9);
+    CHECK(f.step_hz <= 2.2);
+    CHECK(f.step_length_m == Approx(1.7 / f.step_hz));
+    CHECK(f.step_length_m >= 0.77);
+    CHECK(f.step_length_m <= 0.9);
+    // The bounce follows the step by the population's rule, with the seed's own factor.
+    if (w.bounce_m > 0.0081 && w.bounce_m < 0.0349 && f.bounce_m < 0.0349)
+      CHECK(f.bounce_m / f.step_length_m == Approx(w.bounce_m / w.step_length_m));
+    CHECK(f.corner_sigma_m == w.corner_sigma_m);
+    CHECK(f.walking.size() == w.walking.size());
+  }
+}
+
+TEST_CASE("heel impacts: ~12 g at each strike, exact derivatives, the walk unchanged around them", "[sim][walker]") {
+  const Scenario s = make_scenario("walk");
+  REQUIRE(s.walk);
+  WalkOptions o = apply_walker(*s.walk, draw_fast_walker(3, 60.0));
+  const WalkTrajectory plain(o);
+  o.gait.heel_impact_mps2 = 11.0 * 9.81;
+  const WalkTrajectory hit(o);
+  const auto strikes = hit.step_times(60.0);
+  REQUIRE(strikes.size() > 50);
+  int checked = 0;
+  for (const double tk : strikes) {
+    if (hit.gait().envelope(tk).v < 1.0) continue;  // full steps only
+    // +A at the strike on top of the walk's own acceleration.
+    CHECK(hit.state(tk).a_BinW.z() - plain.state(tk).a_BinW.z() == Approx(11.0 * 9.81).epsilon(1e-6));
+    // Gone 80 ms later (zero net velocity: the walk goes on where it was).
+    CHECK((hit.state(tk + 0.08).p_BinW - plain.state(tk + 0.08).p_BinW).norm() < 1e-4);
+    CHECK((hit.state(tk + 0.08).v_BinW - plain.state(tk + 0.08).v_BinW).norm() < 1e-3);
+    // Derivatives through the spike agree with the poses (the IMU is the truth's).
+    for (const double dt : {-0.02, -0.005, 0.0, 0.012, 0.03}) {
+      const double t = tk + dt, h = 1e-6;
+      const BodyState m = hit.state(t), a = hit.state(t - h), b = hit.state(t + h);
+      CHECK(std::abs(m.v_BinW.z() - (b.p_BinW.z() - a.p_BinW.z()) / (2 * h)) < 1e-6);
+      CHECK(std::abs(m.a_BinW.z() - (b.v_BinW.z() - a.v_BinW.z()) / (2 * h)) < 1e-3);
+    }
+    ++checked;
+  }
+  CHECK(checked > 40);
+}
