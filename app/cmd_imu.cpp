@@ -49,6 +49,7 @@ struct ImuArgs {
   double mag_rejection = kMahonyDefaults.mag_rejection;
   bool no_bias_at_rest = false;
   bool no_still_mag_turn = false;
+  bool no_impact_filter = false;
   double duration_s = 0.0;
 };
 
@@ -127,6 +128,7 @@ int run_imu(const ImuArgs& a) {
   MahonyFilter ahrs(mo);
   PdrOptions po;
   po.length.kind = parse_step_length_kind(a.step_model);
+  if (a.no_impact_filter) po.impacts.max_jump_mps2 = 0.0;
   PedestrianDeadReckoning pdr(po);
   const bool want_steps = !a.steps.empty();
 
@@ -240,9 +242,9 @@ int run_imu(const ImuArgs& a) {
                  "accelerometer's %.0f s mean; the attitude's yaw is not observed there\n",
                  gyro_absent_s, pdr.options().gravity_window.window_s);
   if (want_steps || !truth.t.empty())
-    std::fprintf(info, "pdr: %llu steps, %.2f m walked, end at (%.2f, %.2f)\n",
+    std::fprintf(info, "pdr: %llu steps, %.2f m walked, end at (%.2f, %.2f); %llu samples of heel-strike impacts replaced\n",
                  static_cast<unsigned long long>(pdr.step_count()), pdr.distance_m(), pdr.position().x(),
-                 pdr.position().y());
+                 pdr.position().y(), static_cast<unsigned long long>(pdr.impact_samples()));
   if (n_cmp > 0) {
     constexpr double deg = 180.0 / std::numbers::pi;
     const double nn = static_cast<double>(n_cmp);
@@ -315,6 +317,9 @@ void add_imu_command(CLI::App& root, Action& action) {
                 "do not take the mean rate at standstills as the gyro bias (only the magnetometer learns it)");
   cmd->add_flag("--no-still-mag-turn", args->no_still_mag_turn,
                 "the standstill test does not ask the magnetometer whether the device turns slowly (for comparisons)");
+  cmd->add_flag("--no-impact-filter", args->no_impact_filter,
+                "steps: keep heel-strike impacts in the vertical acceleration (core/imu/impact_filter.hpp; for "
+                "comparisons)");
   cmd->add_option("--steps", args->steps, "also run pedestrian dead reckoning; write t,length_m,heading_rad,x,y per step");
   cmd->add_option("--step-model", args->step_model, "step-length model")
       ->check(CLI::IsMember({"weinberg", "cadence", "constant"}))

@@ -245,6 +245,9 @@ void add_run_options(CLI::App* sub, RunConfig& cfg) {
                 "pdr: do not re-centre the particles' step-length scale and turn slowdown on the least-squares fit "
                 "of the tracked stretches when an outage starts (docs/MOTION.md \"Gait fitted to the track\"; for "
                 "comparisons)");
+  sub->add_flag("--no-impact-filter", cfg.no_impact_filter,
+                "pdr: keep heel-strike impacts in the vertical acceleration the steps are found in "
+                "(core/imu/impact_filter.hpp; for comparisons)");
   sub->add_flag("--no-heading-decouple", cfg.no_heading_decouple,
                 "do not shuffle the particles' yaw offsets before the first fix after an outage (docs/MOTION.md "
                 "\"Gait fitted to the track\"; for comparisons)");
@@ -515,6 +518,7 @@ RunOutcome run_session(const RunConfig& cfg, std::ostream& log) {
                                                               : FusionOptions{}.attitude_sigma_rad;
   if (cfg.no_innovation_bias) c.fusion.innovation_bias.enabled = false;
   if (cfg.no_gait_regression) c.fusion.gait_regression.enabled = false;
+  if (cfg.no_impact_filter) c.fusion.motion.pdr.impacts.max_jump_mps2 = 0.0;
   if (cfg.no_heading_decouple) c.fusion.decouple_heading_after_outage = false;
   if (cfg.platform == "drone") c.fusion.vlc_frame_correlation = 2.0;  // FusionOptions::vlc_frame_correlation
   c.fusion.camera_height = cfg.camera_height == "on" || (cfg.camera_height == "auto" && cfg.platform == "drone");
@@ -688,6 +692,7 @@ void print_report(const RunOutcome& r, std::ostream& log) {
     } else if (f.motion == "pdr") {
       log << ", " << f.steps << " steps";
     }
+    if (f.impact_samples) log << ", " << f.impact_samples << " samples of heel-strike impacts replaced";
     if (std::isfinite(f.gait_scale))
       log << ", gait calibrated to step-length scale " << std::setprecision(3) << f.gait_scale
           << ", heading offset " << std::setprecision(2) << f.gait_heading_offset_rad * 180.0 / 3.141592653589793

@@ -30,6 +30,7 @@ struct RunConfig {
   double attitude_sigma_rad = 0.0;  // 0: the platform's default (run --attitude-sigma)
   bool no_innovation_bias = false;  // run --no-innovation-bias (FusionOptions::innovation_bias)
   bool no_gait_regression = false;  // run --no-gait-regression (FusionOptions::gait_regression)
+  bool no_impact_filter = false;    // run --no-impact-filter (PdrOptions::impacts off)
   bool no_heading_decouple = false;  // run --no-heading-decouple (FusionOptions::decouple_heading_after_outage)
   std::string uwb_height = "auto", uwb_bias = "auto";  // auto | on | off (issue 16: learnt while running)
   std::string uwb_scale = "off";  // on | off: a per-anchor range scale beside the learnt bias

@@ -14,6 +14,8 @@
 #   calib      PDR after calibration: lights for 30 s (the fixes calibrate the gait), then
 #              all lights off to the end (60 s): end error as % of the distance walked in the dark
 # (calib and fixes are not run by default: CASES="vlc blackout uwb pdr calib fixes" adds them)
+# WALKER=fast walks the fast walker instead (1.7 m/s, `sim --walker fast`); SIM_ARGS adds
+# simulator arguments to every session (e.g. SIM_ARGS="--heel-impact 11": 12 g heel strikes).
 # ROWS=FILE appends each session's figures to FILE (case, seed, ATE, p95, max, within 95 %, yaw
 # p95, extra), to find the session behind a worst figure.
 set -euo pipefail
@@ -24,7 +26,7 @@ for case in ${CASES:-vlc blackout uwb pdr}; do
   : > "$tmp/rows"
   for seed in $(seq "$first" "$last"); do
     d="$tmp/s"; rm -rf "$d"
-    args=(--seed "$seed" --walker random --imu-grade consumer); run=()
+    args=(--seed "$seed" --walker "${WALKER:-random}" --imu-grade consumer ${SIM_ARGS:-}); run=()
     case $case in
       vlc) "$luxloc" sim --out "$d" --scenario walk "${args[@]}" > /dev/null ;;
       blackout) "$luxloc" sim --out "$d" --scenario walk "${args[@]}" --blackout 40:15 > /dev/null ;;

@@ -25,7 +25,7 @@ Overloaded(Ts...) -> Overloaded<Ts...>;
 MotionSourceOptions effective_motion(const FusionOptions& o) {
   MotionSourceOptions m = o.motion;
   if (!o.use_imu || !o.use_accelerometer) m.model = MotionModel::cv;
-  m.gravity = o.ahrs.gravity;
+  m.gravity = m.pdr.gravity = o.ahrs.gravity;
   return m;
 }
 
@@ -176,6 +176,7 @@ void FusionEngine::finish(std::vector<PoseEstimate>& out) {
   stats_.steps = motion_.steps();
   stats_.motion_auto = motion_.model() == MotionModel::pdr && options_.motion.gait_gate;
   stats_.steps_used = motion_.steps_used();
+  stats_.impact_samples = motion_.impact_samples();
   stats_.regime_s = motion_.regime_seconds();
   uwb_->summarize_online();
   if (pf_) {

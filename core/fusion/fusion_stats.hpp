@@ -34,6 +34,8 @@ struct FusionStats {
   // still): the motion mode over time.
   bool motion_auto = false;
   std::uint64_t steps_used = 0;
+  // Vertical-acceleration samples held out as heel-strike impacts (core/imu/impact_filter.hpp).
+  std::uint64_t impact_samples = 0;
   std::array<double, 4> regime_s{};
   double gait_scale = std::numeric_limits<double>::quiet_NaN();
   double gait_heading_offset_rad = std::numeric_limits<double>::quiet_NaN();

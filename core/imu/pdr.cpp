@@ -6,7 +6,7 @@
 namespace luxloc {
 
 PedestrianDeadReckoning::PedestrianDeadReckoning(const PdrOptions& options)
-    : options_(options), detector_(options.detector), length_(options.length), gravity_(options.gravity_window) {}
+    : options_(options), impacts_(options.impacts), detector_(options.detector), length_(options.length), gravity_(options.gravity_window) {}
 
 void PedestrianDeadReckoning::update(const ImuSample& s, const Eigen::Matrix3d& R_BtoW) {
   if (!s.acc_inB.allFinite() || !R_BtoW.allFinite()) return;
@@ -26,7 +26,9 @@ void PedestrianDeadReckoning::update(const ImuSample& s, const Eigen::Matrix3d& 
   if (gyro_absent_ && t_prev) gyro_absent_ns_ += s.t - *t_prev;
   const double a_up = gyro_absent_ ? s.acc_inB.dot(gravity_.up_inB()) - options_.gravity
                                    : (R_BtoW * s.acc_inB).z() - options_.gravity;
-  if (const std::optional<DetectedStep> d = detector_.update(s.t, a_up)) add_step(*d);
+  // Heel-strike impacts out first (ImpactFilter): a clean stream passes sample by sample.
+  for (const auto& [t, a] : impacts_.update(s.t, a_up))
+    if (const std::optional<DetectedStep> d = detector_.update(t, a)) add_step(*d);
 }
 
 void PedestrianDeadReckoning::finish() {

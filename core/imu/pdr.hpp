@@ -12,16 +12,19 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <deque>
+#include <limits>
 #include <optional>
 
 #include "core/common/samples.hpp"
 #include "core/imu/gravity_window.hpp"
+#include "core/imu/impact_filter.hpp"
 #include "core/imu/step_detector.hpp"
 #include "core/imu/step_length.hpp"
 
 namespace luxloc {
 
 struct PdrOptions {
+  ImpactFilterOptions impacts;  // heel-strike spikes out of the vertical acceleration first
   StepDetectorOptions detector;
   StepLengthOptions length;
   double heading_offset_rad = 0.0;   // walking direction minus device yaw
@@ -62,6 +65,11 @@ class PedestrianDeadReckoning {
   std::uint64_t step_count() const { return count_; }
   double distance_m() const { return distance_m_; }
   const PdrOptions& options() const { return options_; }
+  // The vertical acceleration (world up, gravity removed) of the last sample without
+  // heel-strike impacts: during one the value before it (ImpactFilter::current).
+  double vertical_mps2() const { return impacts_.current(); }
+  // Samples of heel-strike impacts replaced (ImpactFilter).
+  std::uint64_t impact_samples() const { return impacts_.repaired(); }
   // True while the gyroscope reads exactly zero (see PdrOptions::gyro_absent_after_s).
   bool gyro_absent() const { return gyro_absent_; }
   // Seconds of the stream spent with gyro_absent() (sample intervals ending in such a sample).
@@ -72,6 +80,7 @@ class PedestrianDeadReckoning {
   void add_step(const DetectedStep& d);
 
   PdrOptions options_;
+  ImpactFilter impacts_;
   StepDetector detector_;
   StepLengthModel length_;
   std::deque<std::pair<TimeNs, double>> yaw_history_;  // last few seconds of device yaw

@@ -154,3 +154,35 @@ TEST_CASE("luxloc sim --kidnap: a bad spec or a distance the walk never reaches 
     CHECK_THAT(r.output, Catch::Contains("--kidnap"));
   }
 }
+
+TEST_CASE("luxloc sim --walker fast --heel-impact: 12 g heel strikes that luxloc imu replaces and keeps every step", "[sim][impact]") {
+  const auto dir = test::scratch_dir("cmd_sim_heel_impact");
+  const auto r = run_luxloc("sim --out '" + dir.string() +
+                            "' --walker fast --heel-impact 11 --imu-grade consumer --seed 6 --duration 40 --no-frames");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  const std::string truth = read_text(dir / "sim_truth.yaml");
+  CHECK(truth.find("speed_mps: 1.7") != std::string::npos);
+  CHECK(truth.find("heel_impact") != std::string::npos);
+  // The accelerometer peaks near 12 g.
+  CsvReader imu((dir / "imu.csv").string());
+  const int az = imu.require_column("az");
+  double peak = 0.0;
+  while (imu.next_row()) peak = std::max(peak, imu.number(az));
+  CHECK(peak > 11.0 * 9.81);
+  CHECK(peak < 16.0 * 9.81);  // within the sensor limits every reader enforces
+  const auto imu_run = run_luxloc("imu --in '" + dir.string() + "' --out /dev/null --truth '" +
+                                  (dir / "groundtruth.csv").string() + "'");
+  INFO(imu_run.output);
+  REQUIRE(imu_run.exit_code == 0);
+  CHECK_THAT(imu_run.output, Catch::Contains("samples of heel-strike impacts replaced"));
+  CHECK_THAT(imu_run.output, !Catch::Contains(" 0 samples of heel-strike impacts replaced"));
+  CHECK_THAT(imu_run.output, Catch::Contains("steps found (100.0 %)"));
+  // A scenario without a walker has no heel to strike with.
+  const auto bad = test::scratch_dir("cmd_sim_heel_impact_bad");
+  const auto none = run_luxloc("sim --out '" + bad.string() + "' --scenario drone --heel-impact 5");
+  CHECK(none.exit_code == 2);
+  CHECK_THAT(none.output, Catch::Contains("--heel-impact"));
+  CHECK(run_luxloc("sim --out '" + bad.string() + "' --heel-impact 20").exit_code == 2);  // beyond 14 g
+  CHECK(std::filesystem::is_empty(bad));
+}

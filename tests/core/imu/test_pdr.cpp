@@ -1,7 +1,9 @@
 #include <catch2/catch.hpp>
 #include <Eigen/Geometry>
 #include <cmath>
+#include <algorithm>
 #include <cstdio>
+#include <memory>
 #include <numbers>
 #include <vector>
 
@@ -9,6 +11,9 @@
 #include "core/imu/mahony_filter.hpp"
 #include "core/imu/pdr.hpp"
 #include "core/imu/step_matching.hpp"
+#include "core/sim/imu_grade.hpp"
+#include "core/sim/walk_trajectory.hpp"
+#include "core/sim/walker_population.hpp"
 #include "sim_walk.hpp"
 
 using namespace luxloc;
@@ -21,11 +26,11 @@ struct PdrRun {
   std::vector<Step> steps;
 };
 
-PdrRun run_pdr(const test::SimWalk& w, bool use_mag) {
+PdrRun run_pdr(const test::SimWalk& w, bool use_mag, const PdrOptions& options = {}) {
   MahonyOptions mo;
   mo.use_magnetometer = use_mag;
   MahonyFilter ahrs(mo);
-  PedestrianDeadReckoning pdr;
+  PedestrianDeadReckoning pdr(options);
   const sim::BodyState start = w.simulator.truth(0.0);
   pdr.set_position(start.p_BinW.head<2>());
   PdrRun r;
@@ -85,6 +90,48 @@ TEST_CASE("PDR on the slow square walk (0.6 m/s, small swings) keeps the step co
   const PdrRun r = run_pdr(test::sim_walk(1, "square"), true);
   CHECK(r.match.recall() >= 0.98);
   CHECK(r.match.false_rate() <= 0.02);
+}
+
+namespace {
+
+// The fast walker of `sim --walker fast` (1.7 m/s) on the walk scenario, consumer IMU, with
+// heel-strike impacts of `impact_g` (sim --heel-impact).
+test::SimWalk fast_walk(std::uint64_t seed, double impact_g) {
+  sim::Scenario sc = sim::make_scenario("walk");
+  sim::WalkOptions o = sim::apply_walker(*sc.walk, sim::draw_fast_walker(seed, 90.0));
+  o.gait.heel_impact_mps2 = impact_g * sim::kGravity;
+  sc.trajectory = std::make_shared<sim::WalkTrajectory>(o);
+  sim::SimOptions so;
+  so.seed = seed;
+  so.duration_s = 90.0;
+  so.imu = sim::imu_grade("consumer");
+  test::SimWalk w{sim::Simulator(std::move(sc), so), {}};
+  w.imu = w.simulator.imu_samples();
+  return w;
+}
+
+}  // namespace
+
+TEST_CASE("PDR on a fast walk (1.7 m/s) with 12 g heel strikes keeps its step count and step length", "[imu][impact]") {
+  // Seed 4 (tuning seeds 1-10 of scripts/impact_table.sh): its walk has four stops.
+  const test::SimWalk calm = fast_walk(4, 0.0), hit = fast_walk(4, 11.0);
+  double peak = 0.0;
+  for (const ImuSample& s : hit.imu) peak = std::max(peak, s.acc_inB.norm());
+  CHECK(peak > 11.0 * 9.81);  // the accelerometer sees ~12 g
+  const PdrRun ref = run_pdr(calm, true), r = run_pdr(hit, true);
+  PdrOptions raw;
+  raw.impacts.max_jump_mps2 = 0.0;  // the impacts left in
+  const PdrRun unfiltered = run_pdr(hit, true, raw);
+  std::printf("[imu] fast walk, 12 g heel strikes: %zu/%zu steps, %zu false; PDR %.2f m against %.2f m without "
+              "impacts (%.2f m with them left in)\n",
+              r.match.matched, r.match.truth, r.match.false_steps(), r.distance_m, ref.distance_m,
+              unfiltered.distance_m);
+  CHECK(r.match.recall() >= 0.99);
+  // The start / stop ramps' small steps land with an impact too (the truth leaves out steps
+  // below half the gait): at most one such extra per walk.
+  CHECK(r.match.false_steps() <= ref.match.false_steps() + 4);
+  CHECK(r.distance_m == Approx(ref.distance_m).epsilon(0.02));
+  CHECK(unfiltered.distance_m > 1.2 * ref.distance_m);  // what the filter is for
 }
 
 namespace {
