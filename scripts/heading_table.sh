@@ -5,7 +5,7 @@
 # mean over sessions of each session's yaw |error| p50 / p95, the worst p95 and max, the share
 # of poses within 1.96 sigma_yaw, the ATE RMSE and the largest position error; each case with
 # the heading state (default) and without it (--no-heading-state: the AHRS yaw, as before).
-# Extra arguments after LUXLOC go to `luxloc run`. CASES selects cases by name.
+# Extra arguments after LUXLOC go to `luxloc run`. CASES selects cases by name, MODES (on, off) the rows.
 set -euo pipefail
 first=${1:-101}; last=${2:-110}; luxloc=${3:-build/luxloc}; shift $(( $# < 3 ? $# : 3 )) || true
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
@@ -17,7 +17,7 @@ declare -A sim_args=(
 )
 printf '| case | heading state | sessions | yaw p50 | yaw p95 | worst p95 | yaw max | within 1.96 sigma_yaw | ATE RMSE | max error |\n|---|---|---|---|---|---|---|---|---|---|\n'
 for case in ${CASES:-consumer consumer-disturbed poor bias1-blackout}; do
-  for mode in on off; do
+  for mode in ${MODES:-on off}; do
     : > "$tmp/rows"
     for seed in $(seq "$first" "$last"); do
       d="$tmp/s$seed"
