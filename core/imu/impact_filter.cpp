@@ -9,9 +9,9 @@ namespace luxloc {
 const std::vector<ImpactFilter::Sample>& ImpactFilter::update(TimeNs t, double a_mps2) {
   out_.clear();
   if (!std::isfinite(a_mps2)) return out_;
+  const TimeNs t_last = !held_.empty() ? held_.back().first : !recent_.empty() ? recent_.back().first : t - 1;
+  if (t <= t_last) return out_;  // time must advance
   // The reference is the last sample handed on, and while an impact lasts the one before it.
-  // (A reference further back, margin before t, caught a spike's edge creeping up at 400 Hz
-  // earlier, but in a real trouser pocket it took the step's own signature for impacts.)
   // Within an impact the band is max_jump about the reference; to start one, a sample must
   // also jump faster than max_jerk (at rates above 100 Hz a spike's edge moves by less than
   // max_jump a sample, and would creep in).

@@ -129,7 +129,10 @@ TEST_CASE("ImpactFilter: a lasting change is handed on as measured, an impact at
     CHECK(out[k].second == ((t >= 1.0 && t < 2.0) ? 6.0 : 0.0));
   }
   CHECK(f.repaired() == 0);
-  // NaN is dropped, not handed on.
+  // NaN and a time that does not advance are dropped, not handed on.
   CHECK(f.update(seconds_to_ns(3.0), std::nan("")).empty());
   CHECK(f.update(seconds_to_ns(3.01), 0.0).size() == 1);
+  CHECK(f.update(seconds_to_ns(3.01), 0.0).empty());
+  CHECK(f.update(seconds_to_ns(2.5), 0.0).empty());
+  CHECK(f.update(seconds_to_ns(3.02), 0.0).size() == 1);
 }
