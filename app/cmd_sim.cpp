@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <iterator>
 #include <memory>
 #include <numbers>
 #include <optional>
@@ -234,7 +235,7 @@ void add_sim_command(CLI::App& root, Action& action) {
                   "the pedestrian: default (the scenario's), random (drawn from --seed: step length 0.35-0.85 m, "
                   "cadence 1.4-2.2 Hz, turns, bounce, sway, stops of 1-10 s) or fast (the same draw at 1.7 m/s, "
                   "1.9-2.2 Hz); written to sim_truth.yaml")
-      ->check(CLI::IsMember({"default", "random", "fast"}))
+      ->check(CLI::IsMember(std::vector<std::string>(std::begin(sim::kWalkerNames), std::end(sim::kWalkerNames))))
       ->capture_default_str();
   cmd->add_option("--heel-impact", args->heel_impact_g,
                   "each heel strike adds a vertical acceleration spike this high, in g (a device on the leg, in a "

@@ -34,7 +34,7 @@ struct FusionStats {
   // still): the motion mode over time.
   bool motion_auto = false;
   std::uint64_t steps_used = 0;
-  // Vertical-acceleration samples held out as heel-strike impacts (core/imu/impact_filter.hpp).
+  // Vertical-acceleration samples of heel-strike impacts replaced (core/imu/impact_filter.hpp).
   std::uint64_t impact_samples = 0;
   std::array<double, 4> regime_s{};
   double gait_scale = std::numeric_limits<double>::quiet_NaN();

@@ -36,7 +36,7 @@ void MotionSource::update(const ImuSample& s, const Eigen::Matrix3d& R_BtoW) {
   // Yaw rate: the body rate about the world vertical.
   const double yaw_rate = (R_BtoW * s.gyro_inB).z();
   yaw_rate_ = yaw_rate;
-  // The vertical acceleration the step detector saw (heel-strike impacts held out).
+  // The vertical acceleration the step detector saw (heel-strike impacts replaced).
   gait_.update(s.t, pdr_.vertical_mps2(), a_along, yaw_rate);
   while (const std::optional<Step> step = pdr_.pop_step()) {
     if (gait_confirmed()) {

@@ -66,7 +66,7 @@ class MotionSource {
   const GaitSpeed& gait() const { return gait_; }
   std::uint64_t steps() const { return pdr_.step_count(); }          // detected
   std::uint64_t steps_used() const { return steps_used_; }           // passed the gait gate
-  std::uint64_t impact_samples() const { return pdr_.impact_samples(); }  // heel-strike spikes held out
+  std::uint64_t impact_samples() const { return pdr_.impact_samples(); }  // heel-strike impact samples replaced
   MotionRegime regime() const { return regime_; }
   // Seconds predicted in each regime (index: MotionRegime), the mode over time in short.
   const std::array<double, 4>& regime_seconds() const { return regime_s_; }

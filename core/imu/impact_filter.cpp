@@ -52,29 +52,29 @@ const std::vector<ImpactFilter::Sample>& ImpactFilter::update(TimeNs t, double a
 }
 
 void ImpactFilter::release(bool repair) {
-  // The clean samples after the impact: those from margin after it came back.
-  std::vector<Sample> fit = before_;
+  // The clean samples after the impact: those from margin after it came back; the fit takes
+  // them and those before it.
+  const TimeNs clean_from = t_back_ + seconds_to_ns(options_.margin_s);
+  const TimeNs t0 = held_.front().first;
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
   if (repair) {
-    const TimeNs clean_from = t_back_ + seconds_to_ns(options_.margin_s);
+    std::vector<Sample> fit = before_;
     for (const Sample& s : held_)
       if (s.first >= clean_from) fit.push_back(s);
-    repair = fit.size() >= 3 && fit.front().first < held_.front().first;
-  }
-  Eigen::Vector3d c = Eigen::Vector3d::Zero();
-  TimeNs t0 = held_.front().first;
-  if (repair) {
-    // a(t) ~ c0 + c1 u + c2 u^2, u in seconds from the first held sample.
-    Eigen::MatrixXd A(static_cast<Eigen::Index>(fit.size()), 3);
-    Eigen::VectorXd b(static_cast<Eigen::Index>(fit.size()));
-    for (std::size_t i = 0; i < fit.size(); ++i) {
-      const double u = ns_to_seconds(fit[i].first - t0);
-      A.row(static_cast<Eigen::Index>(i)) << 1.0, u, u * u;
-      b(static_cast<Eigen::Index>(i)) = fit[i].second;
+    repair = fit.size() >= 3 && fit.front().first < t0;
+    if (repair) {
+      // a(t) ~ c0 + c1 u + c2 u^2, u in seconds from the first held sample.
+      Eigen::MatrixXd A(static_cast<Eigen::Index>(fit.size()), 3);
+      Eigen::VectorXd b(static_cast<Eigen::Index>(fit.size()));
+      for (std::size_t i = 0; i < fit.size(); ++i) {
+        const double u = ns_to_seconds(fit[i].first - t0);
+        A.row(static_cast<Eigen::Index>(i)) << 1.0, u, u * u;
+        b(static_cast<Eigen::Index>(i)) = fit[i].second;
+      }
+      c = A.colPivHouseholderQr().solve(b);
+      repair = c.allFinite();
     }
-    c = A.colPivHouseholderQr().solve(b);
-    repair = c.allFinite();
   }
-  const TimeNs clean_from = repair ? t_back_ + seconds_to_ns(options_.margin_s) : 0;
   for (const Sample& s : held_) {
     if (!repair || s.first >= clean_from) {
       out_.push_back(s);

@@ -12,7 +12,6 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <deque>
-#include <limits>
 #include <optional>
 
 #include "core/common/samples.hpp"
