@@ -72,6 +72,7 @@ class MosquittoBroker {
 
   int port() const { return port_; }
   std::string address() const { return "127.0.0.1:" + std::to_string(port_); }
+  std::string log() const { return read_text(dir_ / "broker.log"); }  // for a failing check's INFO
 
   void start() {
     const std::string bin = mosquitto_binary();
