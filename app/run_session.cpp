@@ -304,6 +304,12 @@ void add_run_options(CLI::App* sub, RunConfig& cfg) {
 
 void add_particle_filter_options(CLI::App* sub, ParticleFilterOptions& pf) {
   const char* g = "Particle filter";
+  sub->add_option("--gait-scale", pf.gait.scale0,
+                  "pdr: the step-length scale the filter starts from (a walker's calibrated k from an earlier run; "
+                  "docs/MOTION.md)")
+      ->check(CLI::Range(0.4, 1.5))
+      ->capture_default_str()
+      ->group(g);
   sub->add_option("--gait-scale-sigma", pf.gait.scale_sigma0,
                   "pdr: initial spread (1 sigma) of the step-length scale the fixes calibrate (docs/MOTION.md)")
       ->check(CLI::Range(0.0, 1.0))

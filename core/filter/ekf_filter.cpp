@@ -9,7 +9,7 @@ namespace luxloc {
 
 void EkfFilter::initialize(const Eigen::Vector2d& p, const Eigen::Matrix2d& cov_p) {
   if (!p.allFinite()) return;
-  x_ << p, 0.0, 0.0, 1.0, 0.0;
+  x_ << p, 0.0, 0.0, options_.gait.scale0, 0.0;
   P_.setZero();
   P_.topLeftCorner<2, 2>() =
       cov_p.allFinite() ? Eigen::Matrix2d(0.5 * (cov_p + cov_p.transpose())) : Eigen::Matrix2d::Identity();

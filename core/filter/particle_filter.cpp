@@ -225,6 +225,7 @@ void ParticleFilter::start_prior() {
 }
 
 void ParticleFilter::draw_gait_prior(std::uint64_t step) {
+  const float k0 = static_cast<float>(options_.gait.scale0);
   const float s_k = static_cast<float>(options_.gait.scale_sigma0);
   const float s_d = static_cast<float>(options_.gait.heading_offset_sigma0);
   const float k_lo = static_cast<float>(options_.gait.min_scale), k_hi = static_cast<float>(options_.gait.max_scale);
@@ -237,7 +238,7 @@ void ParticleFilter::draw_gait_prior(std::uint64_t step) {
     for (std::size_t blk = b; blk < e; blk += kBlock) {
       const std::size_t len = std::min(kBlock, e - blk);
       rng.fill_normal(noise, LaneRng::round_up(3 * len, 16));
-      MapF(set_.ks.data() + blk, idx(len)) = (1.0f + s_k * CMapU(noise, idx(len))).max(k_lo).min(k_hi);
+      MapF(set_.ks.data() + blk, idx(len)) = (k0 + s_k * CMapU(noise, idx(len))).max(k_lo).min(k_hi);
       MapF(set_.dpsi.data() + blk, idx(len)) = s_d * CMapU(noise + len, idx(len));
       MapF(set_.kturn.data() + blk, idx(len)) = (s_t * CMapU(noise + 2 * len, idx(len))).max(t_lo).min(t_hi);
     }
@@ -885,7 +886,7 @@ void ParticleFilter::inject_random(std::uint64_t step) {
       set_.vx[i] = static_cast<float>(sv * rng.normal());
       set_.vy[i] = static_cast<float>(sv * rng.normal());
       if (set_.gait) {
-        set_.ks[i] = 1.0f;  // the uncalibrated gait
+        set_.ks[i] = static_cast<float>(options_.gait.scale0);  // the uncalibrated gait
         set_.dpsi[i] = 0.0f;
         set_.kturn[i] = 0.0f;
       }
