@@ -307,7 +307,7 @@ void add_particle_filter_options(CLI::App* sub, ParticleFilterOptions& pf) {
   sub->add_option("--gait-scale", pf.gait.scale0,
                   "pdr: the step-length scale the filter starts from (a walker's calibrated k from an earlier run; "
                   "docs/MOTION.md)")
-      ->check(CLI::Range(0.4, 1.5))
+      ->check(CLI::Range(pf.gait.min_scale, pf.gait.max_scale))
       ->capture_default_str()
       ->group(g);
   sub->add_option("--gait-scale-sigma", pf.gait.scale_sigma0,

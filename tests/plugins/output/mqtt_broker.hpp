@@ -85,16 +85,16 @@ class MosquittoBroker {
     const std::string conf_s = conf.string();
     std::vector<char*> argv{const_cast<char*>(bin.c_str()), const_cast<char*>("-c"), const_cast<char*>(conf_s.c_str()),
                             nullptr};
-    const std::string log = (dir_ / "broker.log").string();
+    const std::string log_file = (dir_ / "broker.log").string();
     posix_spawn_file_actions_t files;
     posix_spawn_file_actions_init(&files);
-    posix_spawn_file_actions_addopen(&files, 2, log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
+    posix_spawn_file_actions_addopen(&files, 2, log_file.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
     posix_spawn_file_actions_addopen(&files, 1, "/dev/null", O_WRONLY, 0);
     const int rc = posix_spawn(&pid_, bin.c_str(), &files, nullptr, argv.data(), environ);
     posix_spawn_file_actions_destroy(&files);
     REQUIRE(rc == 0);
     for (int i = 0; i < 200 && !port_accepts(port_); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(25));
-    INFO("broker log: " << read_text(dir_ / "broker.log"));
+    INFO("broker log: " << log());
     REQUIRE(port_accepts(port_));
   }
   void stop() {
