@@ -72,25 +72,27 @@ struct GaitNoise {
   // walker population, seeds 1-10: sigma consistency 83 -> 86-88 %, ATE unchanged; 0.25 gave
   // 90-91 % but larger blackout excursions (the wider cloud wanders further in the dark).
   double turn_noise = 0.1;
-  // The walker's own slowdown in turns (s/rad), a third calibration state beside k and d:
-  // speed x (1 - kturn |omega|) on top of GaitSpeedOptions::turn_slowdown_s_per_rad (0.2,
-  // fitted to the default walker's 0.5 m corner rounding). Walkers who sweep through turns
-  // (the population's 0.3-1.0 m rounding) slow down as much over a turn taken at a lower
-  // yaw rate: tuning seeds 1-10, blackout 40:15, those with ~0.9 m rounding walked 7-17 %
-  // too slow on straights and too fast in turns with one k for both (blackout max 0.8 m,
-  // seeds 1-3). Clamped to [-0.2, 0.5]. Walk 0.02 per sqrt(s): with 0.003 the fixes
-  // collapsed the spread in the first seconds of the walk, before any turn (seeds 1-3:
-  // 0.80 -> 0.38 / 1.00 / 1.03 m); 0.02 gave 0.29 / 0.58 / 0.35 m, 0.05 a wider, inflated
-  // sigma (0.9 m on seed 1) for no better maximum. Initial spread 0.05 s/rad (the walk
-  // widens it within a minute): 0.15 and 0.10 let kturn trade off against the yaw-offset
-  // state e in turns seen with one LED (fused yaw p95 1.61 / 1.64 deg against 1.35 for the
-  // AHRS alone, tests/core/fusion/test_fusion_heading_e2e.cpp); blackout 40:15 over tuning
-  // seeds 1-10, 41-50: mean max 0.37 / 0.36 / 0.39 m for 0.15 / 0.10 / 0.05 (0.46 without
-  // the state), worst 0.82 / 0.81 / 0.72 m (1.11).
-  double turn_slowdown_sigma0 = 0.05;
-  double turn_slowdown_walk = 0.02;  // s/rad per sqrt(s)
-  double min_turn_slowdown = -0.2, max_turn_slowdown = 0.5;
-  double min_turn_factor = 0.4;      // floor of 1 - kturn |omega|
+  // The walker's own slowdown in turns, a third calibration state beside k and d: a walker
+  // loses A metres of distance per radian turned, speed = k s - A r (s: the gait speed, r: the
+  // angle turned, paid out with the distance, GaitInput::turn_paid_rps). A is a length: on a
+  // given corner a walker slows down by the path's curvature, not by the yaw rate alone (the
+  // two-thirds power law of locomotion: Vieilledent et al. 2001, Hicheur et al. 2005), so a
+  // slow walker slows down more per rad/s than a fast one; per step, the loss is A times the
+  // angle the step turned, whatever the pace. The particle filter carries the whole slowdown
+  // (the gait model's own fixed factor is off for it; the EKF keeps 0.2 s/rad). Over the
+  // walker population (`sim --walker random`; the truth's pace on straights and in turns, 1 s
+  // windows, least squares) the slowdown in s/rad that walkers need is 0.10-0.39, mean 0.25,
+  // sd 0.09 on tuning seeds 1-10 and 41-60, and a hold-out walker reaches 0.56 (seed 107:
+  // 0.54 m/s, wide corners), 3.5 sd off a prior in s/rad; as A = c v the same walkers need
+  // 0.11-0.34 m/rad, mean 0.225, sd 0.06 (seed 107: 0.30, 1.3 sd). A starts at that mean with
+  // that spread and walks 0.02 m/rad per sqrt(s) (the walk the s/rad state had, tuned on
+  // seeds 1-3: 0.003 collapsed before the first turn, 0.05 inflated sigma), within
+  // [0, 0.7] m/rad.
+  double turn_slowdown0 = 0.225;         // m/rad
+  double turn_slowdown_sigma0 = 0.06;    // m/rad
+  double turn_slowdown_walk = 0.02;      // m/rad per sqrt(s)
+  double min_turn_slowdown = 0.0, max_turn_slowdown = 0.7;
+  double min_turn_factor = 0.4;      // the speed in a turn stays above this share of k s
   // Dead reckoning (no correction for dead_reckoning_after_s): the fixes pinned k and d to
   // 1-2 % and a fraction of a degree for the stretch they saw, but the gait model's error
   // changes from one stretch to the next (turns, pace). Once per outage the particles'

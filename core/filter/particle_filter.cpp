@@ -229,6 +229,7 @@ void ParticleFilter::draw_gait_prior(std::uint64_t step) {
   const float s_k = static_cast<float>(options_.gait.scale_sigma0);
   const float s_d = static_cast<float>(options_.gait.heading_offset_sigma0);
   const float k_lo = static_cast<float>(options_.gait.min_scale), k_hi = static_cast<float>(options_.gait.max_scale);
+  const float t0 = static_cast<float>(options_.gait.turn_slowdown0);
   const float s_t = static_cast<float>(options_.gait.turn_slowdown_sigma0);
   const float t_lo = static_cast<float>(options_.gait.min_turn_slowdown);
   const float t_hi = static_cast<float>(options_.gait.max_turn_slowdown);
@@ -240,7 +241,7 @@ void ParticleFilter::draw_gait_prior(std::uint64_t step) {
       rng.fill_normal(noise, LaneRng::round_up(3 * len, 16));
       MapF(set_.ks.data() + blk, idx(len)) = (k0 + s_k * CMapU(noise, idx(len))).max(k_lo).min(k_hi);
       MapF(set_.dpsi.data() + blk, idx(len)) = s_d * CMapU(noise + len, idx(len));
-      MapF(set_.kturn.data() + blk, idx(len)) = (s_t * CMapU(noise + 2 * len, idx(len))).max(t_lo).min(t_hi);
+      MapF(set_.kturn.data() + blk, idx(len)) = (t0 + s_t * CMapU(noise + 2 * len, idx(len))).max(t_lo).min(t_hi);
     }
   });
 }
@@ -363,7 +364,8 @@ void ParticleFilter::predict_gait(const MotionInput& u) {
   const float s_t = static_cast<float>(options_.gait.turn_slowdown_walk * std::sqrt(dt));
   const float t_lo = static_cast<float>(options_.gait.min_turn_slowdown);
   const float t_hi = static_cast<float>(options_.gait.max_turn_slowdown);
-  const float w_turn = std::isfinite(g.abs_turn_rate_rps) ? static_cast<float>(std::abs(g.abs_turn_rate_rps)) : 0.0f;
+  // Turn slowdown per particle: speed = k s - A turn_paid (GaitNoise::turn_slowdown0).
+  const float w_turn = std::isfinite(g.turn_paid_rps) ? static_cast<float>(std::max(0.0, g.turn_paid_rps)) : 0.0f;
   const float f_lo = static_cast<float>(options_.gait.min_turn_factor);
   const float fspeed = static_cast<float>(speed), half_dt = static_cast<float>(0.5 * dt);
   const float ac = s_along * c, as = s_along * s, cc = s_cross * c, cs = s_cross * s;
@@ -395,7 +397,7 @@ void ParticleFilter::predict_gait(const MotionInput& u) {
       // (its gait heading offset); trapezoidal position.
       const BlockF ang = heading ? BlockF(D + CMapF(set_.yaw.data() + blk, idx(len))) : BlockF(D);
       const BlockF cd = ang.cos(), sd = ang.sin();
-      const BlockF sp = fspeed * K * (1.0f - KT * w_turn).max(f_lo);
+      const BlockF sp = (fspeed * K - KT * w_turn).max(f_lo * fspeed * K);
       const BlockF vx = sp * (c * cd - s * sd);
       const BlockF vy = sp * (s * cd + c * sd);
       X += half_dt * (VX + vx) + ac * n3 - cs * n4;
@@ -436,7 +438,7 @@ ParticleFilter::GaitEstimate ParticleFilter::gait_estimate() const {
   g.scale_sigma = std::sqrt(std::max(0.0, a[2] / a[0] - g.scale * g.scale));
   g.heading_offset_rad = a[3] / a[0];
   g.heading_offset_sigma = std::sqrt(std::max(0.0, a[4] / a[0] - g.heading_offset_rad * g.heading_offset_rad));
-  g.turn_slowdown_s_per_rad = a[5] / a[0];
+  g.turn_slowdown_m_per_rad = a[5] / a[0];
   g.valid = true;
   return g;
 }
@@ -461,12 +463,12 @@ void ParticleFilter::widen_gait(double min_scale_sigma, double min_heading_offse
   });
 }
 
-void ParticleFilter::shift_gait(double dk, double dkturn) {
-  if (!initialized_ || !set_.gait || !std::isfinite(dk) || !std::isfinite(dkturn)) return;
+void ParticleFilter::shift_gait(double dk, double dturn) {
+  if (!initialized_ || !set_.gait || !std::isfinite(dk) || !std::isfinite(dturn)) return;
   const float k_lo = static_cast<float>(options_.gait.min_scale), k_hi = static_cast<float>(options_.gait.max_scale);
   const float t_lo = static_cast<float>(options_.gait.min_turn_slowdown);
   const float t_hi = static_cast<float>(options_.gait.max_turn_slowdown);
-  const float fk = static_cast<float>(dk), ft = static_cast<float>(dkturn);
+  const float fk = static_cast<float>(dk), ft = static_cast<float>(dturn);
   for_each_particle_chunk(set_.size(), [&](std::size_t, std::size_t b, std::size_t e) {
     MapF K(set_.ks.data() + b, idx(e - b)), KT(set_.kturn.data() + b, idx(e - b));
     K = (K + fk).max(k_lo).min(k_hi);
@@ -888,7 +890,7 @@ void ParticleFilter::inject_random(std::uint64_t step) {
       if (set_.gait) {
         set_.ks[i] = static_cast<float>(options_.gait.scale0);  // the uncalibrated gait
         set_.dpsi[i] = 0.0f;
-        set_.kturn[i] = 0.0f;
+        set_.kturn[i] = static_cast<float>(options_.gait.turn_slowdown0);
       }
       if (set_.heading) set_.yaw[i] = 0.0f;  // the AHRS's yaw
       ++count[c];

@@ -133,7 +133,7 @@ class ParticleFilter final : public PlanarFilter {
   // step-length scale and the heading offset; valid = false before the first gait input.
   struct GaitEstimate {
     double scale = 1.0, scale_sigma = 0.0, heading_offset_rad = 0.0, heading_offset_sigma = 0.0;
-    double turn_slowdown_s_per_rad = 0.0;  // the particles' own, beyond the gait model's
+    double turn_slowdown_m_per_rad = 0.0;  // A: pace lost per rad/s of yaw rate (GaitNoise)
     bool valid = false;
   };
   GaitEstimate gait_estimate() const;
@@ -141,10 +141,10 @@ class ParticleFilter final : public PlanarFilter {
   // least these standard deviations (no-op where wider, or without the gait states): what
   // the fixes pinned down holds for the stretch they saw, not for the next one.
   void widen_gait(double min_scale_sigma, double min_heading_offset_sigma_rad);
-  // Moves every particle's step-length scale by dk and turn slowdown by dkturn (clamped to
+  // Moves every particle's step-length scale by dk and turn slowdown by dturn (m/rad; clamped to
   // their ranges): the set re-centred on a calibration fitted outside it, each particle's
   // deviation kept (core/fusion/gait_regression.hpp). No-op without the gait states.
-  void shift_gait(double dk, double dkturn);
+  void shift_gait(double dk, double dturn);
   // Shuffles the particles' yaw offsets (and, with `with_gait_offset`, their walking-direction
   // offsets, the same permutation) among them: the marginal spread is kept, what a stretch of
   // dead reckoning tied to each particle's position is cut. For the first fix after an

@@ -26,7 +26,18 @@ MotionSourceOptions effective_motion(const FusionOptions& o) {
   MotionSourceOptions m = o.motion;
   if (!o.use_imu || !o.use_accelerometer) m.model = MotionModel::cv;
   m.gravity = m.pdr.gravity = o.ahrs.gravity;
+  // The particle filter carries the walker's whole turn slowdown per particle (GaitNoise::
+  // turn_slowdown_*, in m/rad); the gait model's fixed factor stays for the EKF.
+  if (o.filter != "ekf") m.gait.turn_slowdown_s_per_rad = 0.0;
   return m;
+}
+
+// The gait regression's options, its window-rejection prior the particles' own start.
+GaitRegressionOptions gait_regression_options(const FusionOptions& o) {
+  GaitRegressionOptions r = o.gait_regression;
+  r.reject_prior_scale = o.pf.gait.scale0;
+  r.reject_prior_turn_slowdown = o.pf.gait.turn_slowdown0;
+  return r;
 }
 
 // One set of process-noise knobs for both filter families.
@@ -50,6 +61,7 @@ FusionEngine::FusionEngine(const FusionOptions& options, const std::optional<Led
       ahrs_(options.ahrs),
       heading_feedback_(options.heading_feedback),
       motion_(effective_motion(options)),
+      gait_regression_(gait_regression_options(options)),
       innovation_bias_(options.innovation_bias),
       vo_options_(vo) {
   device_height_m_ = std::isfinite(options.device_height_m) ? options.device_height_m
@@ -282,8 +294,8 @@ void FusionEngine::predict_to(TimeNs t) {
     // First the calibration the tracked stretches fit (core/fusion/gait_regression.hpp), then
     // its spread. Shifting every particle keeps each one's deviation and the set's spread.
     if (const ParticleFilter::GaitEstimate g = pf_->gait_estimate(); g.valid) {
-      if (const auto fit = gait_regression_.solve(g.scale, g.turn_slowdown_s_per_rad)) {
-        pf_->shift_gait(fit->scale - g.scale, fit->turn_slowdown_s_per_rad - g.turn_slowdown_s_per_rad);
+      if (const auto fit = gait_regression_.solve(g.scale, g.turn_slowdown_m_per_rad)) {
+        pf_->shift_gait(fit->scale - g.scale, fit->turn_slowdown_m_per_rad - g.turn_slowdown_m_per_rad);
         ++stats_.gait_recentred;
         stats_.max_gait_recentre_scale = std::max(stats_.max_gait_recentre_scale, std::abs(fit->scale - g.scale));
       }
@@ -315,7 +327,7 @@ void FusionEngine::feed_gait_regression(TimeNs t, const MotionInput& u) {
   // The walking direction the particles used (AHRS heading + yaw offset + gait offset): their
   // mean velocity's. Standing (no velocity), the gait speed is zero and adds nothing.
   const double vn = est.v.norm();
-  if (vn > 0.05) gait_regression_.add_motion(u.gait.speed_mps, u.gait.abs_turn_rate_rps, est.v / vn, u.dt);
+  if (vn > 0.05) gait_regression_.add_motion(u.gait.speed_mps, u.gait.turn_paid_rps, est.v / vn, u.dt);
   const double max_var = est.cov_p.allFinite()
                              ? Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(est.cov_p, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff()
                              : std::numeric_limits<double>::infinity();

@@ -2,19 +2,20 @@
 // The walker's step-length scale k and turn slowdown kturn by least squares on the track the
 // fixes pinned down (issue 12: dead reckoning through an outage with a calibrated gait).
 //
-// The particles carry k and kturn as random-walk states (core/filter/motion_model.hpp
-// GaitNoise); the fixes weigh them through the positions they produced. Straights observe k,
-// turns k (1 - kturn |omega|); a stretch that turns most of the time leaves the pair free
-// along a line, where the random walks move the whole set: on one session the particles held
-// k = 0.99-1.23 at the start of a blackout depending on the filter's seed, each with a spread
-// of 0.02-0.07 (docs/MOTION.md "What is left in the dark"). The gait velocity is linear in
-// a = k and c = k kturn,
-//   v = (a - c |omega|) s u,      s the gait speed, u the walking direction,
-// so over a window [t0, t1] the displacement is d = a G - c H with G = int s u dt and
-// H = int s |omega| u dt. While the filter tracks (a fix in the last fix_age_s, position
-// sigma below tracking_sigma_m) every window of at least window_s adds its normal equations
-// with exponential forgetting (memory_s); solve() returns the ridge solution about the
-// particles' own means. The fusion re-centres the particles' k and kturn on it once per
+// The particles carry k and the turn slowdown A as random-walk states (core/filter/
+// motion_model.hpp GaitNoise); the fixes weigh them through the positions they produced.
+// Straights observe k, turns k and A together; a stretch that turns most of the time
+// leaves the pair free along a line, where the random walks move the whole set: on one
+// session the particles held k = 0.99-1.23 at the start of a blackout depending on the
+// filter's seed, each with a spread of 0.02-0.07 (docs/MOTION.md "What is left in the
+// dark"). The gait velocity is linear in k and A,
+//   v = (k s - A r) u,      s the gait speed, r the turned angle it pays out (rad/s),
+//                           u the walking direction,
+// so over a window [t0, t1] the displacement is d = k G - A H with G = int s u dt and
+// H = int r u dt. While the filter tracks (a fix in the last fix_age_s,
+// position sigma below tracking_sigma_m) every window of at least window_s adds its normal
+// equations with exponential forgetting (memory_s); solve() returns the ridge solution about
+// the particles' own means. The fusion re-centres the particles' k and A on it once per
 // outage, before the dead-reckoning widening (FusionOptions::gait_regression).
 #include <Eigen/Core>
 #include <optional>
@@ -36,6 +37,9 @@ struct GaitRegressionOptions {
   // Weight of the particles' own (a, c) as a prior, in units of G.G (m^2: one second's window
   // at 1 m/s weighs ~1): 0.1, see memory_s.
   double ridge = 0.1;
+  // The prior of the window-rejection fit (before the particles' means are asked): the gait
+  // a walker starts with (the fusion sets GaitNoise::scale0, turn_slowdown0).
+  double reject_prior_scale = 0.9, reject_prior_turn_slowdown = 0.225;
   double window_s = 1.0;          // the shortest window: fixes' noise / displacement small
   double fix_age_s = 0.2;         // "tracking": a fix this recent ...
   double tracking_sigma_m = 0.1;  // ... and the position's largest sigma below this
@@ -47,26 +51,27 @@ struct GaitRegressionOptions {
 class GaitRegression {
  public:
   explicit GaitRegression(const GaitRegressionOptions& options = {}) : options_(options) {}
-  // The gait's motion over dt: gait speed s (m/s), |omega| as the gait model uses it (rad/s),
-  // walking direction u (unit vector in the world). Non-finite inputs are ignored.
-  void add_motion(double speed_mps, double abs_turn_rate_rps, const Eigen::Vector2d& u, double dt);
+  // The gait's motion over dt: gait speed s (m/s), the turned angle paid out with it (rad/s,
+  // GaitSpeed::turn_paid_rps), walking direction u (unit vector in the world). Non-finite
+  // inputs are ignored.
+  void add_motion(double speed_mps, double turn_rps, const Eigen::Vector2d& u, double dt);
   // The filter's position after the prediction to t, and whether it is tracking (see
   // GaitRegressionOptions); closes a window when one is due.
   void add_position(TimeNs t, const Eigen::Vector2d& p, bool tracking);
   struct Solution {
     double scale = 1.0;                   // k
-    double turn_slowdown_s_per_rad = 0.0;  // kturn
+    double turn_slowdown_m_per_rad = 0.0;  // A
     int windows = 0;                      // windows in the memory (not discounted)
   };
   // The ridge solution about the prior (the particles' means); empty before the first window.
-  std::optional<Solution> solve(double prior_scale, double prior_turn_slowdown) const;
+  std::optional<Solution> solve(double prior_scale, double prior_turn_slowdown_m_per_rad) const;
   int windows() const { return windows_; }
   int rejected_windows() const { return rejected_; }
   void reset();
 
  private:
-  // (a, c) = (k, k kturn), the ridge solution about the prior; empty before the first window.
-  std::optional<Eigen::Vector2d> fit(double prior_scale, double prior_turn_slowdown) const;
+  // (k, A), the ridge solution about the prior; empty before the first window.
+  std::optional<Eigen::Vector2d> fit(double prior_scale, double prior_turn_slowdown_m_per_rad) const;
   GaitRegressionOptions options_;
   Eigen::Vector2d g_ = Eigen::Vector2d::Zero(), h_ = Eigen::Vector2d::Zero(), anchor_ = Eigen::Vector2d::Zero();
   std::optional<TimeNs> t_anchor_;

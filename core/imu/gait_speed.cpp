@@ -25,15 +25,16 @@ double GaitSpeed::turn_factor() const {
   return std::clamp(1.0 - options_.turn_slowdown_s_per_rad * abs_yaw_rate_, options_.min_turn_factor, 1.0);
 }
 
-double GaitSpeed::turn_integral_at(TimeNs t) const {
+double GaitSpeed::turn_integral_at(TimeNs t, double TurnMark::*field) const {
   if (turn_history_.empty()) return 0.0;
-  if (t <= turn_history_.front().first) return turn_history_.front().second;
+  if (t <= turn_history_.front().t) return turn_history_.front().*field;
   for (std::size_t i = turn_history_.size(); i-- > 1;) {
-    const auto& [t1, v1] = turn_history_[i];
-    const auto& [t0, v0] = turn_history_[i - 1];
-    if (t0 <= t && t <= t1) return v0 + (v1 - v0) * ns_to_seconds(t - t0) / std::max(ns_to_seconds(t1 - t0), 1e-9);
+    const TurnMark& m1 = turn_history_[i];
+    const TurnMark& m0 = turn_history_[i - 1];
+    if (m0.t <= t && t <= m1.t)
+      return m0.*field + (m1.*field - m0.*field) * ns_to_seconds(t - m0.t) / std::max(ns_to_seconds(m1.t - m0.t), 1e-9);
   }
-  return turn_history_.back().second;
+  return turn_history_.back().*field;
 }
 
 void GaitSpeed::update(TimeNs t, double a_up_mps2, double a_along_mps2, double yaw_rate_rps) {
@@ -45,9 +46,10 @@ void GaitSpeed::update(TimeNs t, double a_up_mps2, double a_along_mps2, double y
     const double w = std::min(1.0, dts / std::max(options_.turn_window_s, 1e-3));
     abs_yaw_rate_ += w * (std::abs(yaw_rate_rps) - abs_yaw_rate_);
     turn_integral_ += turn_factor() * std::min(dts, 0.2);
+    abs_turn_integral_ += abs_yaw_rate_ * std::min(dts, 0.2);
   }
-  turn_history_.emplace_back(t, turn_integral_);
-  while (turn_history_.size() > 2 && t - turn_history_.front().first > seconds_to_ns(4.0)) turn_history_.pop_front();
+  turn_history_.push_back(TurnMark{t, turn_integral_, abs_turn_integral_});
+  while (turn_history_.size() > 2 && t - turn_history_.front().t > seconds_to_ns(4.0)) turn_history_.pop_front();
   bounce_.emplace_back(t, a_up_mps2);
   bounce_sum2_ += a_up_mps2 * a_up_mps2;
   const TimeNs w = seconds_to_ns(options_.bounce_window_s);
@@ -77,6 +79,7 @@ void GaitSpeed::update(TimeNs t, double a_up_mps2, double a_along_mps2, double y
     return;
   }
   extrapolated_m_ += speed_mps_ * rate_factor() * turn_factor() * dt;
+  extrapolated_turn_ += abs_yaw_rate_ * rate_factor() * dt;
 }
 
 void GaitSpeed::add_step(const Step& step) {
@@ -85,10 +88,13 @@ void GaitSpeed::add_step(const Step& step) {
   // A turning step is shorter: its length times the mean turn factor over the step.
   const TimeNs t_from = step.t - seconds_to_ns(period_s_);
   const double span = ns_to_seconds(step.t - t_from);
-  const double mean_turn = span > 0.0 ? std::clamp((turn_integral_at(step.t) - turn_integral_at(t_from)) / span,
-                                                   options_.min_turn_factor, 1.0)
-                                      : 1.0;
+  const double factor_span = turn_integral_at(step.t, &TurnMark::factor) - turn_integral_at(t_from, &TurnMark::factor);
+  const double mean_turn = span > 0.0 ? std::clamp(factor_span / span, options_.min_turn_factor, 1.0) : 1.0;
   steps_m_ += step.length_m * (options_.turn_slowdown_s_per_rad > 0.0 ? mean_turn : 1.0);
+  // The angle this step turned, and what the walk turned since its heel strike.
+  const double angle_at_step = turn_integral_at(step.t, &TurnMark::angle);
+  steps_turn_ += std::max(0.0, angle_at_step - turn_integral_at(t_from, &TurnMark::angle));
+  extrapolated_turn_ = std::max(0.0, abs_turn_integral_ - angle_at_step);
   speed_mps_ = std::min(step.length_m / period_s_, options_.max_speed_mps);
   last_ = step;
   have_step_ = true;
@@ -102,12 +108,26 @@ void GaitSpeed::add_step(const Step& step) {
 
 double GaitSpeed::take_speed(TimeNs t0, TimeNs t1) {
   const double dt = ns_to_seconds(t1 - t0);
+  turn_paid_rps_ = 0.0;
   if (!(dt > 0.0) || !have_t_) return 0.0;
   // The extrapolation's current rate, plus the servo onto the expected distance.
   const double rate = extrapolating_ ? speed_mps_ * rate_factor() : 0.0;
   const double tau = std::max(options_.servo_tau_s, dt);
   const double v = std::clamp(rate + (expected_m() - output_m_) / tau, 0.0, options_.max_speed_mps);
   output_m_ += v * dt;
+  // The turned angle goes with the distance it was turned over: a sizeable distance still
+  // owed (a confirmed step's, paid out after it, often while the walker stops) carries the
+  // angle still owed with it; otherwise the distance is the extrapolation's, at the current
+  // turn per metre. Two servos of their own would pay a stop's last turning step's angle
+  // before its distance, and the distance then without its slowdown.
+  const double owed_m = expected_m() - (output_m_ - v * dt), owed_turn = expected_turn() - output_turn_;
+  double per_m = 0.0;
+  if (owed_m > options_.turn_owed_min_m)
+    per_m = owed_turn / owed_m;
+  else if (extrapolating_)
+    per_m = abs_yaw_rate_ / std::max(speed_mps_, options_.turn_min_pace_mps);
+  turn_paid_rps_ = v * std::clamp(per_m, 0.0, options_.max_turn_per_m);
+  output_turn_ += turn_paid_rps_ * dt;
   // The accelerometer's share is not part of the distance the servo accounts for.
   return std::clamp(v + (extrapolating_ ? accel_speed_mps_ : 0.0), 0.0, options_.max_speed_mps);
 }

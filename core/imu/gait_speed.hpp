@@ -25,6 +25,13 @@
 // rate averaged over turn_window_s, floored at min_turn_factor). The simulator's walker
 // gives c = 0.21 s/rad (speed 1.24 m/s straight, 0.91 m/s at 1.25 rad/s); the fusion's
 // step-length scale calibrates what is left.
+//
+// Beside the distance, the angle the walker turned is paid out in step with it (turn_paid):
+// each step's turned angle (|omega| integrated over the step), the extrapolation's |omega|,
+// and the same servo. A model whose walker loses A metres per radian of turn (the particle
+// filter's turn slowdown, core/filter/motion_model.hpp GaitNoise::turn_slowdown0) subtracts
+// A times this rate from the speed, and the loss lands on the steps that turned, not on the
+// steps the servo happens to pay out after them.
 #include <cstdint>
 #include <deque>
 
@@ -47,6 +54,14 @@ struct GaitSpeedOptions {
   double turn_window_s = 0.55;           // EMA time constant of |omega|
   double min_turn_factor = 0.5;
   double accel_mean_tau_s = 0.0;        // > 0: remove a slow mean of the along-track acceleration
+  // The turned angle paid out with the distance (turn_paid_rps): owed distance beyond
+  // turn_owed_min_m carries the owed angle (5 cm: a tenth of the shortest step); otherwise
+  // |omega| over the pace, the pace taken as at least turn_min_pace_mps (0.3 m/s, below the
+  // slowest walker's 0.49) so a walk's first short steps do not turn any yaw rate into a large
+  // angle per metre; at most max_turn_per_m (10 rad/m: a full turn within 0.6 m).
+  double turn_owed_min_m = 0.05;
+  double turn_min_pace_mps = 0.3;
+  double max_turn_per_m = 10.0;
 };
 
 class GaitSpeed {
@@ -64,19 +79,26 @@ class GaitSpeed {
   // The speed to integrate over [t0, t1] (one prediction; call in time order, t1 at or
   // shortly after the last update()); the output distance advances by speed (t1 - t0).
   double take_speed(TimeNs t0, TimeNs t1);
+  // The turned angle paid out over the last take_speed() interval, per second (rad/s, >= 0).
+  double turn_paid_rps() const { return turn_paid_rps_; }
   // Steps are coming: the last heel strike lies within the extrapolation horizon and the
   // walker still bounces.
   bool stepping() const { return extrapolating_; }
   // Another motion model covered the distance so far: no catch-up for it.
-  void sync() { output_m_ = expected_m(); }
+  void sync() {
+    output_m_ = expected_m();
+    output_turn_ = expected_turn();
+  }
 
   double walked_m() const { return steps_m_; }   // sum of step lengths
   double output_m() const { return output_m_; }  // distance handed out so far
   double expected_m() const { return steps_m_ + extrapolated_m_; }
+  double expected_turn() const { return steps_turn_ + extrapolated_turn_; }  // rad
   bool walking() const;                          // bounce above bounce_rms_mps2
   double bounce_rms() const;
   // The last step's period (for the motion noise) and the step itself.
   double step_period_s() const { return period_s_; }
+
   const Step& last_step() const { return last_; }
   bool has_step() const { return have_step_; }
 
@@ -102,8 +124,18 @@ class GaitSpeed {
   double accel_mean_mps2_ = 0.0;  // its slow mean (bias, attitude leak)
   double abs_yaw_rate_ = 0.0;     // EMA of |omega|
   double turn_integral_ = 0.0;    // integral of turn_factor() dt since the start
-  std::deque<std::pair<TimeNs, double>> turn_history_;  // (t, turn_integral_) over a few steps
-  double turn_integral_at(TimeNs t) const;
+  // (t, turn_integral_, abs_turn_integral_) over a few steps
+  struct TurnMark {
+    TimeNs t;
+    double factor, angle;
+  };
+  std::deque<TurnMark> turn_history_;
+  double turn_integral_at(TimeNs t, double TurnMark::*field) const;
+  double abs_turn_integral_ = 0.0;  // integral of the averaged |omega| dt since the start (rad)
+  double steps_turn_ = 0.0;         // angle turned up to the last heel strike (rad)
+  double extrapolated_turn_ = 0.0;  // beyond it
+  double output_turn_ = 0.0;
+  double turn_paid_rps_ = 0.0;
 };
 
 }  // namespace luxloc

@@ -2,7 +2,7 @@
 // persistent bias of the fixes' innovations (core/fusion/innovation_bias.hpp), where the
 // filter lags its fixes for seconds. Sessions: the tuning seeds of the population where the
 // filter's own spread covered the least of the errors and the term still adds ~2 points
-// (fixes 44, UWB 1: 94.9 % / 88.9 % without it). Until the gait's step-length scale started
+// (fixes 44: 94.9 % without it; UWB: see its test). Until the gait's step-length scale started
 // at 0.9 (GaitNoise::scale0; before, 1.0) the filter lagged more: fixes 59 and UWB 9 went
 // from 93.3 / 89.6 % to 97.2 / 93.0 % with the term; now from 99.7 / 94.4 % to 100 / 96.1 %.
 #include <catch2/catch.hpp>
@@ -23,11 +23,11 @@ struct Both {
   std::vector<PoseRow> poses_on, poses_off;
 };
 
-Both run_both(const std::filesystem::path& dir, const std::filesystem::path& session) {
+Both run_both(const std::filesystem::path& dir, const std::filesystem::path& session, const std::string& run_args) {
   Both b;
   for (const bool on : {true, false}) {
     const auto out = dir / (on ? "on.csv" : "off.csv");
-    const auto r = run_luxloc("run --playback '" + session.string() + "' --out '" + out.string() + "'" +
+    const auto r = run_luxloc("run --playback '" + session.string() + "' --out '" + out.string() + "' " + run_args +
                               (on ? "" : " --no-innovation-bias"));
     INFO(r.output);
     REQUIRE(r.exit_code == 0);
@@ -47,15 +47,15 @@ void check_same_track(const Both& b) {
   }
 }
 
-// Simulates a session (luxloc sim SIM_ARGS), runs it with and without the lag term, reports
-// the figures and checks that only the sigma differs.
-Both simulate_and_run_both(const std::string& name, const std::string& sim_args) {
+// Simulates a session (luxloc sim SIM_ARGS), runs it (luxloc run RUN_ARGS) with and without
+// the lag term, reports the figures and checks that only the sigma differs.
+Both simulate_and_run_both(const std::string& name, const std::string& sim_args, const std::string& run_args = "") {
   const auto dir = test::scratch_dir("innovation_bias_" + name);
   const auto session = dir / "session";
   const auto sim = run_luxloc("sim " + sim_args + " --out '" + session.string() + "'");
   INFO(sim.output);
   REQUIRE(sim.exit_code == 0);
-  const Both b = run_both(dir, session);
+  const Both b = run_both(dir, session, run_args);
   WARN(name << ": within the 95 % ellipse " << 100.0 * b.on.consistency << " % (without the lag term "
             << 100.0 * b.off.consistency << " %), mean sigma " << b.on.mean_sigma_m << " m (" << b.off.mean_sigma_m
             << "), ATE " << b.on.rmse_m << " m");
@@ -68,16 +68,25 @@ Both simulate_and_run_both(const std::string& name, const std::string& sim_args)
 TEST_CASE("Honest sigma: a walker lagging its 1 Hz fixes is reported with the lag", "[e2e][sigma]") {
   const Both b = simulate_and_run_both(
       "fixes", "--scenario walk --no-frames --fixes 1:0.5 --walker random --imu-grade consumer --seed 44");
-  CHECK(b.on.consistency >= b.off.consistency + 0.02);  // measured 94.9 -> 97.1 % (clang: 95.1 -> 97.3 %)
+  // Measured 95.1 -> 97.3 % (gcc, Release; the turn slowdown as a length); 94.9 -> 97.1 % before
+  // it (clang -O1: 95.1 -> 97.3 %).
+  CHECK(b.on.consistency >= b.off.consistency + 0.015);
   CHECK(b.on.consistency >= 0.95);
   CHECK(b.on.consistency <= 0.995);                  // not inflated into uselessness...
   CHECK(b.on.mean_sigma_m <= 1.0 * b.on.rmse_m);     // ...nor beyond the error's size
 }
 
+// The walker of UWB tuning seed 1 needs k ~ 0.85; its run starts from a stale calibration
+// of another walker (`--gait-scale 1.3 --gait-scale-sigma 0.1`), so the filter walks ahead of
+// the one station's fixes for tens of seconds. Without the lag term its sigma covers 67.6 %
+// of the poses, with it 78.7 % (gcc, Release); mean sigma 0.049 -> 0.088 m against an ATE of
+// 0.227 m. With the default start the same session lags little since the turn slowdown is a
+// length (GaitNoise::turn_slowdown0): 94.4 -> 95.1 %, too close to tell the term's work from
+// a compiler's rounding.
 TEST_CASE("Honest sigma: one UWB station's fixes show the filter's lag", "[e2e][sigma][uwb]") {
-  const Both b = simulate_and_run_both("uwb", "--scenario uwb --walker random --imu-grade consumer --seed 1");
-  // Measured 88.9 -> 91.2 % (gcc, Release), 91.3 -> 93.3 % (clang -O1, the ASan build).
-  CHECK(b.on.consistency >= b.off.consistency + 0.015);
-  CHECK(b.on.consistency >= 0.90);
+  const Both b = simulate_and_run_both("uwb", "--scenario uwb --walker random --imu-grade consumer --seed 1",
+                                       "--gait-scale 1.3 --gait-scale-sigma 0.1");
+  CHECK(b.on.consistency >= b.off.consistency + 0.05);
+  CHECK(b.on.mean_sigma_m >= 1.3 * b.off.mean_sigma_m);
   CHECK(b.on.mean_sigma_m <= 1.0 * b.on.rmse_m);
 }

@@ -16,14 +16,15 @@ using namespace luxloc;
 namespace {
 
 // Stadium walk: 5 s straight, 3 s of a half turn (omega = pi/3 rad/s), repeated. The PDR
-// reports 1.2 / 0.9 m/s everywhere (scale 0.9, no turn slowdown of its own); the walker
-// walks 1.2 m/s straight and 1.2 (1 - 0.2 |omega|) in turns. Fixes (3 cm, 10 Hz) for
-// `fixes_s`, then none for `outage_s`.
+// reports 1.2 / 0.9 m/s everywhere (scale 0.9) and pays out the turned angle; the walker
+// walks 1.2 m/s straight and loses 0.35 m per radian turned (1.2 - 0.35 |omega| in turns):
+// 2 prior sigma beyond the population's mean slowdown (GaitNoise::turn_slowdown0, 0.225).
+// Fixes (3 cm, 10 Hz) for `fixes_s`, then none for `outage_s`.
 struct Outcome {
   double max_err_outage_m = 0.0;
 };
 
-constexpr double kSpeed = 1.2, kScale = 0.9, kTurnSlowdown = 0.2;
+constexpr double kSpeed = 1.2, kScale = 0.9, kTurnSlowdown = 0.35;
 
 double turn_rate(double t) { return std::fmod(t, 8.0) < 5.0 ? 0.0 : std::numbers::pi / 3.0; }
 
@@ -38,7 +39,7 @@ Outcome stadium(ParticleFilter& f, double fixes_s, double outage_s) {
   for (int k = 1; k <= n; ++k) {
     const double t = k * dt, w = turn_rate(t);
     heading += w * dt;
-    p += kSpeed * (1.0 - kTurnSlowdown * w) * dt * Eigen::Vector2d(std::cos(heading), std::sin(heading));
+    p += (kSpeed - kTurnSlowdown * w) * dt * Eigen::Vector2d(std::cos(heading), std::sin(heading));
     MotionInput u;
     u.dt = dt;
     u.has_gait = true;
@@ -49,6 +50,7 @@ Outcome stadium(ParticleFilter& f, double fixes_s, double outage_s) {
     u.gait.step_period_s = 0.55;
     u.gait.turn_rate_rps = w;
     u.gait.abs_turn_rate_rps = w;
+    u.gait.turn_paid_rps = w;
     f.predict(u);
     if (t <= fixes_s && k % 10 == 0) {
       PositionMeasurement m;
@@ -79,13 +81,13 @@ TEST_CASE("Particle filter, pedestrian model: the walker's own turn slowdown is 
   const Outcome o = stadium(pf, 40.0, 16.0);
   const ParticleFilter::GaitEstimate g = pf.gait_estimate();
   REQUIRE(g.valid);
-  INFO("scale " << g.scale << ", turn slowdown " << g.turn_slowdown_s_per_rad << "; outage max " << o.max_err_outage_m);
+  INFO("scale " << g.scale << ", turn slowdown " << g.turn_slowdown_m_per_rad << "; outage max " << o.max_err_outage_m);
   CHECK(g.scale == Approx(kScale).margin(0.03));
-  CHECK(g.turn_slowdown_s_per_rad == Approx(kTurnSlowdown).margin(0.07));
+  CHECK(g.turn_slowdown_m_per_rad == Approx(kTurnSlowdown).margin(0.07));
   CHECK(o.max_err_outage_m < 0.35);
 
-  // Without the turn-slowdown state one scale must fit straights and turns: the outage
-  // drifts further.
+  // Without the turn-slowdown state (the population's mean slowdown for every walker) one
+  // scale must fit straights and turns: the outage drifts further.
   ParticleFilterOptions fixed = options();
   fixed.gait.turn_slowdown_sigma0 = fixed.gait.turn_slowdown_walk = 0.0;
   ParticleFilter pf_fixed(fixed);

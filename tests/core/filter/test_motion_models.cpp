@@ -161,7 +161,7 @@ TEST_CASE("Motion model names parse and print", "[filter][motion]") {
 }
 
 // The fusion's hooks at an outage (docs/MOTION.md "Gait fitted to the track"): shift_gait
-// re-centres k and kturn keeping the spread; decouple_heading shuffles the yaw offsets (and,
+// re-centres k and the turn slowdown keeping the spread; decouple_heading shuffles the yaw offsets (and,
 // asked to, the walking-direction offsets), keeping their spread, so that the first fix after
 // the dark cannot pick them by the position they turned each particle to.
 TEST_CASE("Pedestrian model: the gait re-centred, the heading offsets cut from the positions", "[filter][motion][gait]") {
@@ -228,7 +228,7 @@ TEST_CASE("Pedestrian model: the gait re-centred, the heading offsets cut from t
   const ParticleFilter::GaitEstimate s = pf.gait_estimate();
   CHECK(s.scale == Approx(g.scale + 0.05).margin(1e-4));
   CHECK(s.scale_sigma == Approx(g.scale_sigma).margin(1e-4));
-  CHECK(s.turn_slowdown_s_per_rad == Approx(g.turn_slowdown_s_per_rad + 0.01).margin(1e-3));
+  CHECK(s.turn_slowdown_m_per_rad == Approx(g.turn_slowdown_m_per_rad + 0.01).margin(1e-3));
   pf.shift_gait(std::numeric_limits<double>::quiet_NaN(), 0.0);  // ignored
   CHECK(pf.gait_estimate().scale == Approx(s.scale).margin(1e-9));
 }

@@ -14,10 +14,11 @@ namespace {
 TimeNs at(double s) { return static_cast<TimeNs>(std::llround(s * 1e9)); }
 
 // A walker on a loop of 6 s straights and 2 s quarter turns (|omega| = pi / 4 rad/s), whose
-// step model says 1.2 m/s; the true speed is k (1 - kturn |omega|) of that. The filter's
+// step model says 1.2 m/s; the true speed is k times that less A |omega| (A = 0.2 m lost per
+// radian turned, GaitNoise::turn_slowdown0; the gait pays out |omega|). The filter's
 // position is the truth plus 2 cm of noise (what VLC fixes give) while `tracking(t)`.
 struct Walker {
-  double k = 0.85, kturn = 0.15, speed = 1.2;
+  double k = 0.85, slowdown = 0.2, speed = 1.2;
   template <class Tracking>
   void walk(GaitRegression& r, double t0, double t1, Tracking tracking, std::uint64_t seed = 3,
             Eigen::Vector2d jump_at_40 = Eigen::Vector2d::Zero()) {
@@ -29,7 +30,7 @@ struct Walker {
       const double omega = phase >= 6.0 ? std::numbers::pi / 4.0 : 0.0;
       heading += omega * dt;
       const Eigen::Vector2d u(std::cos(heading), std::sin(heading));
-      p += k * (1.0 - kturn * omega) * speed * dt * u;
+      p += (k * speed - slowdown * omega) * dt * u;
       r.add_motion(speed, omega, u, dt);
       Eigen::Vector2d seen = p + Eigen::Vector2d(n(rng), n(rng));
       if (t >= 40.0) seen += jump_at_40;
@@ -51,7 +52,7 @@ TEST_CASE("gait regression: straights and turns give the step-length scale and t
   REQUIRE(s);
   CHECK(s->windows >= 50);
   CHECK(s->scale == Approx(0.85).margin(0.02));
-  CHECK(s->turn_slowdown_s_per_rad == Approx(0.15).margin(0.03));
+  CHECK(s->turn_slowdown_m_per_rad == Approx(0.2).margin(0.03));
   CHECK(r.rejected_windows() == 0);
 }
 
@@ -63,8 +64,8 @@ TEST_CASE("gait regression: a stretch of turns only pins the speed in the turn, 
   const auto s = r.solve(1.0, 0.0);
   REQUIRE(s);
   const double omega = std::numbers::pi / 4.0;
-  // k (1 - kturn omega) is what the turns observe: right within 2 %.
-  CHECK(s->scale * (1.0 - s->turn_slowdown_s_per_rad * omega) == Approx(0.85 * (1.0 - 0.15 * omega)).epsilon(0.02));
+  // k s - A omega is what the turns observe: right within 2 %.
+  CHECK(s->scale * 1.2 - s->turn_slowdown_m_per_rad * omega == Approx(0.85 * 1.2 - 0.2 * omega).epsilon(0.02));
 }
 
 TEST_CASE("gait regression: a jump of the track is not fitted, untracked stretches add nothing", "[fusion][gait]") {

@@ -95,3 +95,45 @@ TEST_CASE("Gait speed shortens turning steps by the turn slowdown", "[imu][motio
   // Six steps of 0.7 m, each counted at 80 %.
   CHECK(gs.walked_m() == Approx(6 * 0.7 * 0.8).margin(0.02));
 }
+
+// The turned angle is paid out with the distance it was turned over (GaitSpeed::turn_paid_rps;
+// the particle filter's walker loses A metres per radian of it, GaitNoise::turn_slowdown0).
+TEST_CASE("Gait speed pays out the turned angle with the distance, and none once the distance stops",
+          "[imu][motion]") {
+  GaitSpeedOptions no_factor;  // no turn factor of its own: the particle filter's setting
+  no_factor.turn_slowdown_s_per_rad = 0.0;
+  GaitSpeed gs(no_factor);
+  // 6 s bouncing and turning at 1 rad/s with 0.7 m steps every 0.5 s (1.4 m/s: 0.714 rad per
+  // metre), then standing still (no bounce, no turn) for 3 s.
+  // Measured from 2 s, once the yaw-rate average (turn_window_s) has settled.
+  double distance = 0.0, angle = 0.0, angle_while_still = 0.0;
+  TimeNs t_prev = 0;
+  for (int k = 0; k <= 900; ++k) {
+    const double t = k * 0.01;
+    const bool walking = t < 6.0;
+    gs.update(seconds_to_ns(t), walking ? 1.5 * std::cos(2 * M_PI * 2.0 * t) : 0.0, 0.0, walking ? 1.0 : 0.0);
+    if (walking && k >= 50 && k % 50 == 30) {
+      Step s;
+      s.t = seconds_to_ns(t - 0.3);
+      s.length_m = 0.7;
+      s.interval_s = 0.5;
+      gs.add_step(s);
+    }
+    const TimeNs tn = seconds_to_ns(t);
+    if (k > 0) {
+      const double v = gs.take_speed(t_prev, tn), r = gs.turn_paid_rps();
+      REQUIRE(std::isfinite(r));
+      CHECK(r >= 0.0);
+      if (t > 2.0) {
+        distance += v * 0.01;
+        angle += r * 0.01;
+      }
+      if (t > 7.5) angle_while_still += r * 0.01;
+    }
+    t_prev = tn;
+  }
+  INFO("distance " << distance << " m, angle " << angle << " rad");
+  REQUIRE(distance > 4.0);
+  CHECK(angle / distance == Approx(1.0 / 1.4).epsilon(0.05));
+  CHECK(angle_while_still == 0.0);
+}
