@@ -16,29 +16,30 @@
 # (calib and fixes are not run by default: CASES="vlc blackout uwb pdr calib fixes" adds them)
 # WALKER=fast walks the fast walker instead (1.7 m/s, `sim --walker fast`); SIM_ARGS adds
 # simulator arguments to every session (e.g. SIM_ARGS="--heel-impact 11": 12 g heel strikes).
+# JOBS=N runs N sessions at a time (the figures do not depend on it; N = cores).
 # ROWS=FILE appends each session's figures to FILE (case, seed, ATE, p95, max, within 95 %, yaw
 # p95, extra), to find the session behind a worst figure.
 set -euo pipefail
 first=${1:-101}; last=${2:-130}; luxloc=${3:-build/luxloc}; shift $(( $# < 3 ? $# : 3 )) || true
+extra_run=("$@")  # passed on to every `luxloc run`
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 printf '| case | sessions | ATE RMSE (mean) | p95 (mean) | max (seed) | within 95 %% (mean / worst) | yaw p95 (mean) | extra |\n|---|---|---|---|---|---|---|---|\n'
-for case in ${CASES:-vlc blackout uwb pdr}; do
-  : > "$tmp/rows"
-  for seed in $(seq "$first" "$last"); do
-    d="$tmp/s"; rm -rf "$d"
-    args=(--seed "$seed" --walker "${WALKER:-random}" --imu-grade consumer ${SIM_ARGS:-}); run=()
-    case $case in
-      vlc) "$luxloc" sim --out "$d" --scenario walk "${args[@]}" > /dev/null ;;
-      blackout) "$luxloc" sim --out "$d" --scenario walk "${args[@]}" --blackout 40:15 > /dev/null ;;
-      calib) "$luxloc" sim --out "$d" --scenario walk "${args[@]}" --blackout 30:60 > /dev/null ;;
-      uwb) "$luxloc" sim --out "$d" --scenario uwb "${args[@]}" > /dev/null ;;
-      fixes) "$luxloc" sim --out "$d" --scenario walk --no-frames --fixes 1:0.5 "${args[@]}" > /dev/null ;;
-      pdr) "$luxloc" sim --out "$d" --scenario walk --no-frames "${args[@]}" > /dev/null
-           start=$(awk -F, 'NR==2 { print $2 "," $3 "," $5 }' "$d/groundtruth.csv"); run=(--start "$start" --start-sigma 0.02) ;;
-    esac
-    "$luxloc" run --playback "$d" --out "$tmp/p.csv" -q "${run[@]}" "$@"
-    "$luxloc" eval "$tmp/p.csv" --truth "$d/groundtruth.csv" --json > "$tmp/e.json"
-    python3 - "$tmp/e.json" "$tmp/p.csv" "$d/groundtruth.csv" "$case" "$seed" >> "$tmp/rows" <<'PY'
+# One session of a case: prints its row (seed, ATE, p95, max, within 95 %, yaw p95, extra).
+session() {
+  local case=$1 seed=$2 w="$tmp/w$2"; local d="$w/s"; rm -rf "$w"; mkdir -p "$w"
+  local args=(--seed "$seed" --walker "${WALKER:-random}" --imu-grade consumer ${SIM_ARGS:-}); local run=() start
+  case $case in
+    vlc) "$luxloc" sim --out "$d" --scenario walk "${args[@]}" > /dev/null ;;
+    blackout) "$luxloc" sim --out "$d" --scenario walk "${args[@]}" --blackout 40:15 > /dev/null ;;
+    calib) "$luxloc" sim --out "$d" --scenario walk "${args[@]}" --blackout 30:60 > /dev/null ;;
+    uwb) "$luxloc" sim --out "$d" --scenario uwb "${args[@]}" > /dev/null ;;
+    fixes) "$luxloc" sim --out "$d" --scenario walk --no-frames --fixes 1:0.5 "${args[@]}" > /dev/null ;;
+    pdr) "$luxloc" sim --out "$d" --scenario walk --no-frames "${args[@]}" > /dev/null
+         start=$(awk -F, 'NR==2 { print $2 "," $3 "," $5 }' "$d/groundtruth.csv"); run=(--start "$start" --start-sigma 0.02) ;;
+  esac
+  "$luxloc" run --playback "$d" --out "$w/p.csv" -q "${run[@]}" "${extra_run[@]}"
+  "$luxloc" eval "$w/p.csv" --truth "$d/groundtruth.csv" --json > "$w/e.json"
+  python3 - "$w/e.json" "$w/p.csv" "$d/groundtruth.csv" "$case" "$seed" <<'PY'
 import csv, json, math, sys
 e = json.load(open(sys.argv[1])); case = sys.argv[4]; seed = sys.argv[5]
 extra = float("nan")
@@ -60,7 +61,18 @@ if case in ("blackout", "pdr", "calib"):
 yaw = math.degrees(e["yaw_p95_rad"]) if "yaw_p95_rad" in e else float("nan")
 print(seed, e["ate_rmse_m"], e["p95_m"], e["max_m"], e.get("consistency", float("nan")), yaw, extra)
 PY
+  rm -rf "$w"
+}
+
+for case in ${CASES:-vlc blackout uwb pdr}; do
+  # JOBS sessions at a time (default 1), each worker taking every JOBS-th seed.
+  jobs=${JOBS:-1}; pids=()
+  for ((j = 0; j < jobs; j++)); do
+    ( for seed in $(seq $((first + j)) "$jobs" "$last"); do session "$case" "$seed"; done > "$tmp/rows.$j" ) &
+    pids+=($!)
   done
+  for pid in "${pids[@]}"; do wait "$pid"; done
+  cat "$tmp"/rows.* | sort -n -k1 > "$tmp/rows"; rm -f "$tmp"/rows.*
   [ -n "${ROWS:-}" ] && sed "s/^/$case /" "$tmp/rows" >> "$ROWS"
   awk -v c="$case" '{ n++; ate += $2; p95 += $3; if ($4 > mx) { mx = $4; ms = $1 } cons += $5; if (n == 1 || $5 < wc) { wc = $5; ws = $1 }
       yaw += $6; if (c == "blackout") { split($7, b, "/"); if (b[1] > bd) { bd = b[1]; bs = $1 } if (b[2] > ba) ba = b[2] }
