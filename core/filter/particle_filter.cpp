@@ -365,7 +365,7 @@ void ParticleFilter::predict_gait(const MotionInput& u) {
   const float t_lo = static_cast<float>(options_.gait.min_turn_slowdown);
   const float t_hi = static_cast<float>(options_.gait.max_turn_slowdown);
   // Turn slowdown per particle: speed = k s - A turn_paid (GaitNoise::turn_slowdown0).
-  const float w_turn = std::isfinite(g.turn_paid_rps) ? static_cast<float>(std::max(0.0, g.turn_paid_rps)) : 0.0f;
+  const float turn_paid = std::isfinite(g.turn_paid_rps) ? static_cast<float>(std::max(0.0, g.turn_paid_rps)) : 0.0f;
   const float f_lo = static_cast<float>(options_.gait.min_turn_factor);
   const float fspeed = static_cast<float>(speed), half_dt = static_cast<float>(0.5 * dt);
   const float ac = s_along * c, as = s_along * s, cc = s_cross * c, cs = s_cross * s;
@@ -397,7 +397,7 @@ void ParticleFilter::predict_gait(const MotionInput& u) {
       // (its gait heading offset); trapezoidal position.
       const BlockF ang = heading ? BlockF(D + CMapF(set_.yaw.data() + blk, idx(len))) : BlockF(D);
       const BlockF cd = ang.cos(), sd = ang.sin();
-      const BlockF sp = (fspeed * K - KT * w_turn).max(f_lo * fspeed * K);
+      const BlockF sp = (fspeed * K - KT * turn_paid).max(f_lo * fspeed * K);
       const BlockF vx = sp * (c * cd - s * sd);
       const BlockF vy = sp * (s * cd + c * sd);
       X += half_dt * (VX + vx) + ac * n3 - cs * n4;

@@ -133,7 +133,7 @@ class ParticleFilter final : public PlanarFilter {
   // step-length scale and the heading offset; valid = false before the first gait input.
   struct GaitEstimate {
     double scale = 1.0, scale_sigma = 0.0, heading_offset_rad = 0.0, heading_offset_sigma = 0.0;
-    double turn_slowdown_m_per_rad = 0.0;  // A: pace lost per rad/s of yaw rate (GaitNoise)
+    double turn_slowdown_m_per_rad = 0.0;  // A: metres lost per radian turned (GaitNoise)
     bool valid = false;
   };
   GaitEstimate gait_estimate() const;

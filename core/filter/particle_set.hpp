@@ -19,8 +19,8 @@ struct ParticleSet {
   FloatVector x, y;    // m, relative to the filter's origin
   FloatVector vx, vy;  // m/s, world frame
   // Gait calibration of the pedestrian motion model (core/filter/motion_model.hpp): step-
-  // length scale, heading offset (rad) and the walker's slowdown in turns (m/rad: pace lost
-  // per rad/s of yaw rate). Empty unless `gait` (other models do not pay for them in the
+  // length scale, heading offset (rad) and the walker's slowdown in turns (m/rad: metres lost
+  // per radian turned). Empty unless `gait` (other models do not pay for them in the
   // resampling gather).
   FloatVector ks, dpsi, kturn;
   bool gait = false;

@@ -23,8 +23,6 @@ struct GaitInput {
   // Yaw rate about the vertical (rad/s): in turns walkers cut corners, slow down and step
   // off the device's heading by amounts no model of one walker knows (GaitNoise::turn_noise).
   double turn_rate_rps = 0.0;
-  // |omega| averaged over the turn window (GaitSpeed::abs_turn_rate_rps).
-  double abs_turn_rate_rps = 0.0;
   // The walker's turned angle paid out with the distance (GaitSpeed::turn_paid_rps, rad/s):
   // the particle filter's walker loses A metres per radian of it (GaitNoise::turn_slowdown_*),
   // speed = k s - A turn_paid; the EKF leaves turns to the gait model's own factor.

@@ -101,7 +101,6 @@ MotionInput MotionSource::input_for(TimeNs t0, TimeNs t1) {
       u.gait.heading_rad = heading_rad_;
       u.gait.step_period_s = gait_.step_period_s();
       u.gait.turn_rate_rps = yaw_rate_;
-      u.gait.abs_turn_rate_rps = gait_.abs_turn_rate_rps();
       u.gait.turn_paid_rps = gait_.turn_paid_rps();
       // Per-step noise only while walking (standing still has no step to be wrong about).
       if (u.gait.speed_mps > 0.0 && gait_.has_step()) {

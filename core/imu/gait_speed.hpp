@@ -72,7 +72,6 @@ class GaitSpeed {
   // and the horizontal acceleration along the walking direction.
   void update(TimeNs t, double a_up_mps2, double a_along_mps2 = 0.0, double yaw_rate_rps = 0.0);
   double turn_factor() const;  // 1 - c |omega|, floored
-  double abs_turn_rate_rps() const { return abs_yaw_rate_; }  // |omega| over turn_window_s
   // A step, as PedestrianDeadReckoning::pop_step() returns it (Step::t = heel strike),
   // after the update() of the sample that confirmed it.
   void add_step(const Step& step);
@@ -98,7 +97,6 @@ class GaitSpeed {
   double bounce_rms() const;
   // The last step's period (for the motion noise) and the step itself.
   double step_period_s() const { return period_s_; }
-
   const Step& last_step() const { return last_; }
   bool has_step() const { return have_step_; }
 

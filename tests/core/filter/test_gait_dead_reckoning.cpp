@@ -49,7 +49,6 @@ Outcome stadium(ParticleFilter& f, double fixes_s, double outage_s) {
     u.gait.heading_sigma_rad = 0.035;
     u.gait.step_period_s = 0.55;
     u.gait.turn_rate_rps = w;
-    u.gait.abs_turn_rate_rps = w;
     u.gait.turn_paid_rps = w;
     f.predict(u);
     if (t <= fixes_s && k % 10 == 0) {
