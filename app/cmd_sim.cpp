@@ -19,6 +19,7 @@
 #include "core/sim/imu_grade.hpp"
 #include "core/sim/mag_disturbance.hpp"
 #include "core/sim/walker_population.hpp"
+#include "core/sim/world_population.hpp"
 #include "core/sim/scenario.hpp"
 #include "core/sim/session_writer.hpp"
 #include "core/sim/simulator.hpp"
@@ -45,6 +46,8 @@ struct SimArgs {
   std::string imu_grade;
   std::string mag_disturbance;
   std::string walker = "default";
+  std::string world = "default";  // --world random: a drawn camera mode and LED layout
+  std::string camera_mode;        // --camera-mode WxH:ROW_US:EXPOSURE_US[:HFOV_DEG]
   double heel_impact_g = 0.0;  // --heel-impact: each heel strike's spike, g
   std::string gyro_bias_dps;  // "B" or "BX,BY,BZ": a fixed gyro bias
   std::optional<double> gyro_bias_rw_dps;
@@ -136,6 +139,23 @@ int run_sim(const SimArgs& a) {
     walk.gait.heel_impact_mps2 = options.heel_impact_mps2 = a.heel_impact_g * sim::kGravity;
     scenario.trajectory = std::make_shared<sim::WalkTrajectory>(walk);
   }
+  if (a.world != "default" || !a.camera_mode.empty()) {
+    const char* option = a.world != "default" ? "--world" : "--camera-mode";
+    if (a.world != "default" && !a.camera_mode.empty())
+      throw InputError("--world", 0, "--world", "--world random draws its own camera: leave out --camera-mode");
+    if (a.camera && !scenario.frames) scenario.frames = true;
+    try {
+      if (a.world != "default") {
+        options.world = sim::draw_world(a.seed, a.fps);
+        options.world_plan = sim::apply_world(scenario, *options.world, a.seed);
+      } else {
+        options.camera_mode = sim::parse_camera_mode(a.camera_mode);
+        options.world_plan = sim::apply_camera_mode(scenario, *options.camera_mode, a.seed);
+      }
+    } catch (const std::invalid_argument& e) {
+      throw InputError(option, 0, option, e.what());
+    }
+  }
   if (!a.kidnap.empty()) {
     // The carry covers the camera: a blackout from the pick-up to the put-down.
     try {
@@ -180,6 +200,13 @@ int run_sim(const SimArgs& a) {
               a.scenario.c_str(), simulator.duration_s(), s.frames,
               s.frames == 0 ? "" : (a.frame_format == "png" ? " (PNG)" : " (JPEG)"), s.imu_samples, s.steps,
               simulator.scenario().map.size(), s.files, static_cast<double>(s.bytes) / 1e6, a.out.c_str(), took);
+  if (const auto& w = simulator.options().world_plan) {
+    const CameraModel& c = simulator.scenario().camera;
+    std::printf("  camera %dx%d, %.1f us rows, %.0f us exposure, f %.0f px; %d LEDs (%.2f m discs) in %d frequency "
+                "classes over %.0f-%.0f Hz (sim_truth.yaml: world)\n",
+                c.width, c.height, c.row_time_s * 1e6, c.exposure_s * 1e6, c.fx, w->leds, w->led_diameter_m,
+                w->classes, w->band.f_min_hz, w->band.f_max_hz);
+  }
   std::fflush(stdout);
   return 0;
 }
@@ -237,6 +264,24 @@ void add_sim_command(CLI::App& root, Action& action) {
                   "1.9-2.2 Hz); written to sim_truth.yaml")
       ->check(CLI::IsMember(std::vector<std::string>(std::begin(sim::kWalkerNames), std::end(sim::kWalkerNames))))
       ->capture_default_str();
+  cmd->add_option("--world", args->world,
+                  "the camera and the ceiling: default (the scenario's) or random (drawn from --seed: 640x480 to "
+                  "1920x1080, 15-45 us rows, 50-300 us exposure, 50-95 deg lenses; LEDs on a grid or irregular, "
+                  "2-4 m apart, 2.4-4 m ceilings; frequencies planned for that camera); written to sim_truth.yaml")
+      ->check(CLI::IsMember(std::vector<std::string>(std::begin(sim::kWorldNames), std::end(sim::kWorldNames))))
+      ->capture_default_str();
+  cmd->add_option("--camera-mode", args->camera_mode,
+                  "film with this camera mode (e.g. 1280x720:45:200:70, a 720p webcam reading a row in 45 us, "
+                  "200 us exposure, 70 deg lens; default lens 69.6 deg); the LED map's frequencies are planned "
+                  "for it")
+      ->type_name("WxH:ROW_US:EXPOSURE_US[:HFOV_DEG]")
+      ->each([](const std::string& s) {
+        try {
+          (void)sim::parse_camera_mode(s);
+        } catch (const std::invalid_argument& e) {
+          throw CLI::ValidationError("--camera-mode", e.what());
+        }
+      });
   cmd->add_option("--heel-impact", args->heel_impact_g,
                   "each heel strike adds a vertical acceleration spike this high, in g (a device on the leg, in a "
                   "pocket or on the hip; ~50 ms, zero net velocity: 11 gives the accelerometer ~12 g peaks); 0: none")

@@ -11,9 +11,15 @@
 #   fixes      IMU + position fixes at 1 Hz, sigma 0.5 m per axis (no camera): a walker whose
 #              absolute source says nothing of the yaw but the track
 #   pdr        IMU only from the true start (--start): end error as % of the distance walked
+#   webcam     the vlc walk filmed by a 720p webcam mode: 45 us rows, 200 us exposure, 70 deg lens
+#              (`sim --camera-mode 1280x720:45:200:70`, the LED frequencies planned for it)
+#   world      the vlc walk under a drawn camera and ceiling (`sim --world random`: 640x480 to 1080p,
+#              15-45 us rows, 50-300 us exposure, 50-95 deg lenses, LEDs on a grid or irregular 2-4 m
+#              apart, 2.4-4 m ceilings); extra: the share of frames with an LED the fusion used
 #   calib      PDR after calibration: lights for 30 s (the fixes calibrate the gait), then
 #              all lights off to the end (60 s): end error as % of the distance walked in the dark
-# (calib and fixes are not run by default: CASES="vlc blackout uwb pdr calib fixes" adds them)
+# (calib, fixes, webcam and world are not run by default: CASES="vlc blackout uwb pdr calib fixes
+# webcam world" runs them all)
 # WALKER=fast walks the fast walker instead (1.7 m/s, `sim --walker fast`); SIM_ARGS adds
 # simulator arguments to every session (e.g. SIM_ARGS="--heel-impact 11": 12 g heel strikes).
 # JOBS=N runs N sessions at a time (the figures do not depend on it; N = cores).
@@ -30,6 +36,8 @@ session() {
   local args=(--seed "$seed" --walker "${WALKER:-random}" --imu-grade consumer ${SIM_ARGS:-}); local run=() start
   case $case in
     vlc) "$luxloc" sim --out "$d" --scenario walk "${args[@]}" > /dev/null ;;
+    webcam) "$luxloc" sim --out "$d" --scenario walk "${args[@]}" --camera-mode 1280x720:45:200:70 > /dev/null ;;
+    world) "$luxloc" sim --out "$d" --scenario walk "${args[@]}" --world random > /dev/null ;;
     blackout) "$luxloc" sim --out "$d" --scenario walk "${args[@]}" --blackout 40:15 > /dev/null ;;
     calib) "$luxloc" sim --out "$d" --scenario walk "${args[@]}" --blackout 30:60 > /dev/null ;;
     uwb) "$luxloc" sim --out "$d" --scenario uwb "${args[@]}" > /dev/null ;;
@@ -37,12 +45,15 @@ session() {
     pdr) "$luxloc" sim --out "$d" --scenario walk --no-frames "${args[@]}" > /dev/null
          start=$(awk -F, 'NR==2 { print $2 "," $3 "," $5 }' "$d/groundtruth.csv"); run=(--start "$start" --start-sigma 0.02) ;;
   esac
-  "$luxloc" run --playback "$d" --out "$w/p.csv" -q "${run[@]}" "${extra_run[@]}"
+  "$luxloc" run --playback "$d" --out "$w/p.csv" --status off "${run[@]}" "${extra_run[@]}" 2> "$w/run.log"
   "$luxloc" eval "$w/p.csv" --truth "$d/groundtruth.csv" --json > "$w/e.json"
-  python3 - "$w/e.json" "$w/p.csv" "$d/groundtruth.csv" "$case" "$seed" <<'PY'
-import csv, json, math, sys
+  python3 - "$w/e.json" "$w/p.csv" "$d/groundtruth.csv" "$case" "$seed" "$w/run.log" <<'PY'
+import csv, json, math, re, sys
 e = json.load(open(sys.argv[1])); case = sys.argv[4]; seed = sys.argv[5]
 extra = float("nan")
+if case in ("webcam", "world"):
+    m = re.search(r"frames (\d+) \((\d+) with LEDs", open(sys.argv[6]).read())
+    extra = f"{100 * int(m.group(2)) / max(int(m.group(1)), 1):.1f}" if m else "nan"
 if case in ("blackout", "pdr", "calib"):
     poses = list(csv.DictReader(open(sys.argv[2]))); truth = list(csv.DictReader(open(sys.argv[3])))
     tt = [float(r["t"]) for r in truth]
@@ -76,10 +87,12 @@ for case in ${CASES:-vlc blackout uwb pdr}; do
   [ -n "${ROWS:-}" ] && sed "s/^/$case /" "$tmp/rows" >> "$ROWS"
   awk -v c="$case" '{ n++; ate += $2; p95 += $3; if ($4 > mx) { mx = $4; ms = $1 } cons += $5; if (n == 1 || $5 < wc) { wc = $5; ws = $1 }
       yaw += $6; if (c == "blackout") { split($7, b, "/"); if (b[1] > bd) { bd = b[1]; bs = $1 } if (b[2] > ba) ba = b[2] }
-      if (c == "pdr" || c == "calib") { pd += $7; if ($7 > pw) { pw = $7; ps = $1 } } }
+      if (c == "pdr" || c == "calib") { pd += $7; if ($7 > pw) { pw = $7; ps = $1 } }
+      if (c == "webcam" || c == "world") { lf += $7; if (n == 1 || $7 < lw) { lw = $7; ls = $1 } } }
     END { extra = "-"
       if (c == "blackout") extra = sprintf("blackout max %.3f m (seed %d), 2 s after max %.3f m", bd, bs, ba)
       if (c == "pdr") extra = sprintf("end error %.2f %% of distance (mean), worst %.2f %% (seed %d)", pd / n, pw, ps)
+      if (c == "webcam" || c == "world") extra = sprintf("frames with an LED used %.1f %% (mean), fewest %.1f %% (seed %d)", lf / n, lw, ls)
       if (c == "calib") extra = sprintf("end error %.2f %% of the distance in the dark (mean), worst %.2f %% (seed %d)", pd / n, pw, ps)
       printf "| %s | %d | %.3f m | %.3f m | %.3f m (%d) | %.1f %% / %.1f %% (%d) | %.2f deg | %s |\n", c, n, ate / n, p95 / n, mx, ms,
              100 * cons / n, 100 * wc, ws, yaw / n, extra }' "$tmp/rows"

@@ -10,7 +10,7 @@ namespace luxloc::sim {
 
 enum class RandomStream : std::uint64_t {
   imu_biases = 1, led_phases = 2, imu_noise = 3, frame = 4, uwb = 5, floor_texture = 6, imu_scale = 7,
-  imu_bias_walk = 8, uwb_bias = 9, fixes = 16, walker = 17
+  imu_bias_walk = 8, uwb_bias = 9, fixes = 16, walker = 17, world = 18
 };
 
 // SplitMix64 finaliser (Steele et al. 2014): a bijective, well-mixing 64-bit hash.

@@ -169,6 +169,21 @@ void write_sim_truth(const Simulator& sim, const fs::path& p) {
       fs << "{:" << "start_s" << i.start_s << "stop_s" << (std::isfinite(i.stop_s) ? i.stop_s : -1.0) << "}";
     fs << "]" << "}";
   }
+  if (o.world_plan) {
+    const WorldPlan& w = *o.world_plan;
+    const CameraModel& c = sim.scenario().camera;
+    fs << "world" << "{" << "kind" << (o.world ? "random" : "camera-mode") << "width" << c.width << "height" << c.height
+       << "row_time_us" << c.row_time_s * 1e6 << "exposure_us" << c.exposure_s * 1e6;
+    if (o.world) fs << "exposure_drawn_us" << o.world->camera.exposure_s * 1e6;
+    const CameraMode& m = o.world ? o.world->camera : *o.camera_mode;
+    fs << "hfov_deg" << m.hfov_deg << "fx_px" << c.fx << "k1" << c.dist[0];
+    if (o.world)
+      fs << "layout" << o.world->layout << "spacing_m" << o.world->spacing_m << "ceiling_m" << o.world->ceiling_m
+         << "led_diameter_drawn_m" << o.world->led_diameter_m;
+    fs << "led_diameter_m" << w.led_diameter_m << "leds" << w.leds << "classes" << w.classes << "band_hz" << "[:"
+       << w.band.f_min_hz << w.band.f_max_hz << "]" << "band_limit" << w.band.high_limit << "min_reuse_distance_m"
+       << (std::isfinite(w.min_reuse_distance_m) ? w.min_reuse_distance_m : -1.0) << "}";
+  }
   if (o.heel_impact_mps2 > 0.0)
     fs << "heel_impact" << "{" << "peak_mps2" << o.heel_impact_mps2 << "width_s" << GaitOptions{}.heel_impact_width_s
        << "}";

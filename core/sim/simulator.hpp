@@ -17,6 +17,7 @@
 #include "core/sim/mag_disturbance.hpp"
 #include "core/sim/scenario.hpp"
 #include "core/sim/walker_population.hpp"
+#include "core/sim/world_population.hpp"
 
 namespace luxloc::sim {
 
@@ -41,6 +42,12 @@ struct SimOptions {
   // The walker drawn by `--walker random` (already in the scenario's trajectory; kept here
   // for sim_truth.yaml).
   std::optional<WalkerDraw> walker;
+  // The camera mode and ceiling of `--world random` / `--camera-mode` (already in the
+  // scenario's camera and map; kept here for sim_truth.yaml): what was drawn or asked for,
+  // and what the frequency plan made of it.
+  std::optional<WorldDraw> world;
+  std::optional<CameraMode> camera_mode;
+  std::optional<WorldPlan> world_plan;
   // The heel-strike impacts' peak (GaitOptions::heel_impact_mps2, `--heel-impact`), m/s^2;
   // 0: none. For sim_truth.yaml.
   double heel_impact_mps2 = 0.0;
