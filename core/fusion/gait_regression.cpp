@@ -29,7 +29,7 @@ void GaitRegression::add_position(TimeNs t, const Eigen::Vector2d& p, bool track
   if (span < options_.window_s) return;
   const Eigen::Vector2d d = p - anchor_;
   // A window far off the current solution is a jump of the filter, not the gait.
-  if (const std::optional<Eigen::Vector2d> x = fit(options_.reject_prior_scale, options_.reject_prior_turn_slowdown); x && windows_ >= 5) {
+  if (const std::optional<Eigen::Vector2d> x = fit(options_.reject_prior_scale, options_.reject_prior_turn_slowdown); x && windows_ >= options_.min_windows) {
     const Eigen::Vector2d r = d - (x->x() * g_ - x->y() * h_);
     if (r.norm() > options_.max_residual_m) {
       ++rejected_;
@@ -58,6 +58,7 @@ std::optional<Eigen::Vector2d> GaitRegression::fit(double prior_scale, double pr
 
 std::optional<GaitRegression::Solution> GaitRegression::solve(double prior_scale,
                                                               double prior_turn_slowdown_m_per_rad) const {
+  if (windows_ < options_.min_windows) return std::nullopt;
   const std::optional<Eigen::Vector2d> x = fit(prior_scale, prior_turn_slowdown_m_per_rad);
   if (!x) return std::nullopt;
   return Solution{x->x(), x->y(), windows_};

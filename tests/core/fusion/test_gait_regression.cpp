@@ -92,6 +92,18 @@ TEST_CASE("gait regression: a jump of the track is not fitted, untracked stretch
   CHECK_FALSE(disabled.solve(1.0, 0.0));
 }
 
+TEST_CASE("gait regression: no answer from the first few windows of a walk", "[fusion][gait]") {
+  GaitRegression r;
+  Walker w;
+  // 4.5 s tracked: four 1 s windows, fewer than min_windows (5).
+  w.walk(r, 0.0, 4.5, [](double) { return true; });
+  CHECK(r.windows() == 4);
+  CHECK_FALSE(r.solve(1.0, 0.0));  // the particles keep their own k and A
+  w.walk(r, 4.5, 6.5, [](double) { return true; });
+  CHECK(r.windows() >= 5);
+  CHECK(r.solve(1.0, 0.0));
+}
+
 TEST_CASE("gait regression: non-finite inputs are ignored", "[fusion][gait]") {
   GaitRegression r;
   Walker w;
