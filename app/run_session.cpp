@@ -325,6 +325,18 @@ void add_particle_filter_options(CLI::App* sub, ParticleFilterOptions& pf) {
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str()
       ->group(g);
+  sub->add_option("--dr-scale-sigma", pf.gait.dead_reckoning_scale_sigma,
+                  "pdr: the least spread (1 sigma) of the step-length scale once an outage lasts 1.5 s, so sigma "
+                  "grows with the gait model's error from one stretch to the next (docs/MOTION.md)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str()
+      ->group(g);
+  sub->add_option("--dr-heading-sigma", pf.gait.dead_reckoning_heading_offset_sigma,
+                  "pdr: the least spread (1 sigma, rad) of the walking-direction offset in an outage, as "
+                  "--dr-scale-sigma")
+      ->check(CLI::Range(0.0, 0.5))
+      ->capture_default_str()
+      ->group(g);
   sub->add_option("--genetic-threshold", pf.genetic.threshold,
                   "gpf: a particle is excellent when w / max w >= this (SEEDS.md B.5a)")
       ->check(CLI::Range(0.0, 1.0))

@@ -1,5 +1,6 @@
 #include "core/fusion/motion_source.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace luxloc {
@@ -97,6 +98,7 @@ MotionInput MotionSource::input_for(TimeNs t0, TimeNs t1) {
       if (regime_ != MotionRegime::gait && regime_ != MotionRegime::still) gait_.sync();
       regime_ = stepping ? MotionRegime::gait : MotionRegime::still;
       u.has_gait = true;
+      const double owed_m = std::max(0.0, gait_.expected_m() - gait_.output_m());
       u.gait.speed_mps = gait_.take_speed(t0, t1);
       u.gait.heading_rad = heading_rad_;
       u.gait.step_period_s = gait_.step_period_s();
@@ -106,6 +108,13 @@ MotionInput MotionSource::input_for(TimeNs t0, TimeNs t1) {
       if (u.gait.speed_mps > 0.0 && gait_.has_step()) {
         u.gait.length_sigma_m = gait_.last_step().length_sigma_m;
         u.gait.heading_sigma_rad = gait_.last_step().heading_sigma_rad;
+      }
+      // Stopped, paying out what the last steps owe: as uncertain as the owed distance
+      // (MotionSourceOptions::stop_owed_sigma); the PF and EKF add length_sigma^2 / T per s.
+      if (!stepping && u.gait.speed_mps > 0.0 && owed_m > 0.0 && options_.stop_owed_sigma > 0.0) {
+        const double sigma =
+            options_.stop_owed_sigma * std::sqrt(owed_m * u.gait.speed_mps * std::max(u.gait.step_period_s, 0.05));
+        u.gait.length_sigma_m = std::max(u.gait.length_sigma_m, sigma);
       }
       break;
     }

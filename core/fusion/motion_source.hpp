@@ -39,6 +39,16 @@ struct MotionSourceOptions {
   // After a walk ends (no bounce), zero velocity for this long even if the IMU is not
   // still yet: the walker is coming to a stop, the strapdown velocity would be stale.
   double settle_s = 1.0;
+  // Standing still after a walk, the servo pays out what the last steps still owe (see
+  // input_for). How much of it the walker really walked is a guess: on the default walker
+  // dropping it lost ~0.2 m at every stop; on a drawn walker (`sim --walker random
+  // --camera-mode 1280x720:45:200:70`, tuning seed 6) its last detected step came after the
+  // bounce had died, 0.25 m were owed and none of it was walked, and the filter sat 0.2 m
+  // past the stop for 8 s with a sigma of 5 cm. So the payout carries along-track noise
+  // whose variance grows by f^2 x owed x (distance paid): f^2 owed^2 / 2 over a whole
+  // payout, 1 sigma = f owed / sqrt(2) (0.5 x owed at f = 0.7: the two walkers above within
+  // 2 sigma). 0: none.
+  double stop_owed_sigma = 0.7;
   double gravity = 9.80665;
   // pdr under `--motion auto` (issue 16): steps reach the gait speed only once GaitGate has
   // seen a gait; until then (a drone, a robot: never) the model is strapdown while moving,
