@@ -217,7 +217,10 @@ WorldPlan apply_world(Scenario& s, const WorldDraw& w, std::uint64_t seed) {
       }
       p.push_back(q);
     }
-  if (p.size() < 2) p.emplace_back(std::min(s.room_x_m - 0.3, p.front().x() + w.spacing_m), p.front().y(), w.ceiling_m);
+  if (p.size() < 2) {  // a room smaller than the spacing: a second light beside the first
+    const Eigen::Vector3d first = p.front();
+    p.emplace_back(std::min(s.room_x_m - 0.3, first.x() + w.spacing_m), first.y(), w.ceiling_m);
+  }
   return plan_lights(s, p, w.led_diameter_m, seed);
 }
 
