@@ -118,9 +118,8 @@ WorldPlan plan_lights(Scenario& s, const std::vector<Eigen::Vector3d>& p_inW, do
   return plan;
 }
 
-void require_ceiling_camera(const Scenario& s, const char* what) {
-  if (!s.frames || s.floor_camera)
-    throw std::invalid_argument(std::string(what) + ": scenario '" + s.name + "' has no up-looking camera");
+void require_ceiling_camera(const Scenario& s) {
+  if (!s.frames || s.floor_camera) throw std::invalid_argument("scenario '" + s.name + "' has no up-looking camera");
 }
 
 }  // namespace
@@ -194,7 +193,7 @@ WorldDraw draw_world(std::uint64_t seed, double fps) {
 }
 
 WorldPlan apply_world(Scenario& s, const WorldDraw& w, std::uint64_t seed) {
-  require_ceiling_camera(s, "--world");
+  require_ceiling_camera(s);
   s.camera = camera_for_mode(w.camera);
   // Grid over the room, centred, ~spacing apart (at least 2 x 1 lights).
   const auto axis = [&](double length) {
@@ -225,7 +224,7 @@ WorldPlan apply_world(Scenario& s, const WorldDraw& w, std::uint64_t seed) {
 }
 
 WorldPlan apply_camera_mode(Scenario& s, const CameraMode& mode, std::uint64_t seed) {
-  require_ceiling_camera(s, "--camera-mode");
+  require_ceiling_camera(s);
   s.camera = camera_for_mode(mode);
   std::vector<Eigen::Vector3d> p;
   double diameter = 0.0;
