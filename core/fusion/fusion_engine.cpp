@@ -846,21 +846,23 @@ void FusionEngine::emit(TimeNs t, std::vector<PoseEstimate>& out, bool force) {
   // of it: it moves every VLC fix by dz x tilt the same way, so no spread of the filter can
   // hold it. While the camera anchors the position (a VLC correction within 1 s) the
   // reported sigma carries FusionOptions::tilt_floor_share x dz x attitude_sigma_rad besides
-  // the filter's spread. Found on floor-plan seed 21 (0.5 / 0.6 deg roll / pitch bias: 37 %
-  // of the poses within their 95 % ellipse, 1.4 cm sigma against 3.7 cm error); the filter
-  // itself is unchanged.
-  double floor2 = 0.0;
+  // the filter's spread, and is at least the whole dz x attitude_sigma_rad per axis
+  // (FusionOptions::tilt_floor_min). Found on floor-plan seed 21 (0.5 / 0.6 deg roll / pitch
+  // bias: 37 % of the poses within their 95 % ellipse, 1.4 cm sigma against 3.7 cm error);
+  // the filter itself is unchanged.
+  double tilt_share2 = 0.0, tilt_min2 = 0.0;
   if (vlc_ && t_last_vlc_ && t >= *t_last_vlc_ && ns_to_seconds(t - *t_last_vlc_) < 1.0) {
-    const double floor = options_.tilt_floor_share * vlc_ceiling_distance() * options_.attitude_sigma_rad;
-    floor2 = floor * floor;
+    const double tilt = vlc_ceiling_distance() * options_.attitude_sigma_rad;
+    tilt_share2 = options_.tilt_floor_share * options_.tilt_floor_share * tilt * tilt;
+    if (options_.tilt_floor_min) tilt_min2 = tilt * tilt;
   }
   // The fixes' persistent innovation (FusionOptions::innovation_bias): a lag the filter's
   // spread does not know of.
   const Eigen::Vector2d lag2 = innovation_bias().extra_variance();
   if (lag2.x() > e.cov_p(0, 0) || lag2.y() > e.cov_p(1, 1)) ++stats_.poses_lag_widened;  // the lag dominates
   stats_.max_lag_sigma_m = std::max(stats_.max_lag_sigma_m, std::sqrt(lag2.maxCoeff()));
-  p.sigma_x = std::sqrt(std::max(0.0, e.cov_p(0, 0)) + floor2 + lag2.x());
-  p.sigma_y = std::sqrt(std::max(0.0, e.cov_p(1, 1)) + floor2 + lag2.y());
+  p.sigma_x = std::sqrt(std::max(std::max(0.0, e.cov_p(0, 0)) + tilt_share2, tilt_min2) + lag2.x());
+  p.sigma_y = std::sqrt(std::max(std::max(0.0, e.cov_p(1, 1)) + tilt_share2, tilt_min2) + lag2.y());
   p.n_eff = e.n_eff;
   p.leds = last_leds_;
   p.motion = motion_regime_name(motion_.regime());
