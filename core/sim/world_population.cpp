@@ -7,6 +7,7 @@
 #include <random>
 #include <stdexcept>
 
+#include "core/common/text_split.hpp"
 #include "core/sim/seeding.hpp"
 #include "core/vlc/led_visibility.hpp"
 
@@ -36,18 +37,7 @@ double parse_number(const std::string& s, const char* what) {
   return v;
 }
 
-std::vector<std::string> split(const std::string& text, char sep) {
-  std::vector<std::string> out;
-  std::size_t b = 0;
-  while (true) {
-    const std::size_t e = text.find(sep, b);
-    out.push_back(text.substr(b, e == std::string::npos ? std::string::npos : e - b));
-    if (e == std::string::npos) return out;
-    b = e + 1;
-  }
-}
-
-// Frequencies for `map_xy` (floor plane) under `camera`, dz below the ceiling: one class per
+// Frequencies for the lights at p_inW filmed by the scenario's camera: one class per
 // light where the band holds them, else the planner's reuse. Grows the disc, then shortens
 // the exposure, until the band holds the classes needed.
 WorldPlan plan_lights(Scenario& s, const std::vector<Eigen::Vector3d>& p_inW, double diameter_m, std::uint64_t seed) {
@@ -64,8 +54,9 @@ WorldPlan plan_lights(Scenario& s, const std::vector<Eigen::Vector3d>& p_inW, do
   CameraModel& cam = s.camera;
   double diameter = diameter_m;
   FrequencyPlan colouring;
-  colouring.classes = n;
-  for (int attempt = 0;; ++attempt) {
+  // Terminates: the disc reaches kMaxDiameterM and the exposure kMinExposureS in finitely
+  // many 15 % steps, then the plan throws.
+  while (true) {
     plan.band = frequency_band(cam, dz, diameter);
     if (plan.band.capacity >= n) {
       colouring.class_of.resize(static_cast<std::size_t>(n));
@@ -93,7 +84,6 @@ WorldPlan plan_lights(Scenario& s, const std::vector<Eigen::Vector3d>& p_inW, do
     } else {
       throw std::invalid_argument("no frequency plan fits this camera and ceiling");
     }
-    if (attempt > 200) throw std::invalid_argument("no frequency plan fits this camera and ceiling");
   }
   // Classes in a seeded order over the band, so neighbouring lights do not get neighbouring
   // frequencies by construction.
@@ -125,10 +115,10 @@ void require_ceiling_camera(const Scenario& s) {
 }  // namespace
 
 CameraMode parse_camera_mode(const std::string& text) {
-  const std::vector<std::string> parts = split(text, ':');
+  const std::vector<std::string> parts = split_text(text, ':');
   if (parts.size() != 3 && parts.size() != 4)
     throw std::invalid_argument("expected WxH:ROW_US:EXPOSURE_US[:HFOV_DEG], got '" + text + "'");
-  const std::vector<std::string> wh = split(parts[0], 'x');
+  const std::vector<std::string> wh = split_text(parts[0], 'x');
   if (wh.size() != 2) throw std::invalid_argument("size: expected WxH (e.g. 1280x720), got '" + parts[0] + "'");
   CameraMode m;
   const double w = parse_number(wh[0], "width"), h = parse_number(wh[1], "height");

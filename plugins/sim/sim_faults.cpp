@@ -3,20 +3,10 @@
 #include <cmath>
 
 #include "core/common/input_error.hpp"
+#include "core/common/text_split.hpp"
 
 namespace luxloc {
 namespace {
-
-std::vector<std::string> split(const std::string& s, char sep) {
-  std::vector<std::string> out;
-  std::size_t start = 0;
-  while (true) {
-    const std::size_t end = s.find(sep, start);
-    out.push_back(s.substr(start, end == std::string::npos ? std::string::npos : end - start));
-    if (end == std::string::npos) return out;
-    start = end + 1;
-  }
-}
 
 double number(const SourceSpec& spec, const std::string& key, const std::string& text) {
   try {
@@ -33,8 +23,8 @@ std::vector<std::pair<double, double>> pairs(const SourceSpec& spec, const std::
   std::vector<std::pair<double, double>> out;
   const std::string value = spec.get(key, "");
   if (value.empty()) return out;
-  for (const std::string& item : split(value, '/')) {
-    const std::vector<std::string> ab = split(item, ':');
+  for (const std::string& item : split_text(value, '/')) {
+    const std::vector<std::string> ab = split_text(item, ':');
     if (ab.size() != 2)
       throw InputError("--source", 0, key,
                        "'" + spec.text + "': " + key + " takes AT:" + (b_positive ? "SECONDS" : "OFFSET") +
