@@ -139,23 +139,6 @@ int run_sim(const SimArgs& a) {
     walk.gait.heel_impact_mps2 = options.heel_impact_mps2 = a.heel_impact_g * sim::kGravity;
     scenario.trajectory = std::make_shared<sim::WalkTrajectory>(walk);
   }
-  if (a.world != "default" || !a.camera_mode.empty()) {
-    const char* option = a.world != "default" ? "--world" : "--camera-mode";
-    if (a.world != "default" && !a.camera_mode.empty())
-      throw InputError("--world", 0, "--world", "--world random draws its own camera: leave out --camera-mode");
-    if (a.camera && !scenario.frames) scenario.frames = true;
-    try {
-      if (a.world != "default") {
-        options.world = sim::draw_world(a.seed, a.fps);
-        options.world_plan = sim::apply_world(scenario, *options.world, a.seed);
-      } else {
-        options.camera_mode = sim::parse_camera_mode(a.camera_mode);
-        options.world_plan = sim::apply_camera_mode(scenario, *options.camera_mode, a.seed);
-      }
-    } catch (const std::invalid_argument& e) {
-      throw InputError(option, 0, option, e.what());
-    }
-  }
   if (!a.kidnap.empty()) {
     // The carry covers the camera: a blackout from the pick-up to the put-down.
     try {
@@ -184,6 +167,22 @@ int run_sim(const SimArgs& a) {
   if (a.camera) {
     if (a.no_frames) throw InputError("--camera", 0, "--camera", "--camera and --no-frames contradict each other");
     scenario.frames = true;  // the scenario's camera (the up-looking webcam) under its LED map
+  }
+  if (a.world != "default" || !a.camera_mode.empty()) {
+    const char* option = a.world != "default" ? "--world" : "--camera-mode";
+    if (a.world != "default" && !a.camera_mode.empty())
+      throw InputError("--world", 0, "--world", "--world random draws its own camera: leave out --camera-mode");
+    try {
+      if (a.world != "default") {
+        options.world = sim::draw_world(a.seed, a.fps);
+        options.world_plan = sim::apply_world(scenario, *options.world, a.seed);
+      } else {
+        options.camera_mode = sim::parse_camera_mode(a.camera_mode);
+        options.world_plan = sim::apply_camera_mode(scenario, *options.camera_mode, a.seed);
+      }
+    } catch (const std::invalid_argument& e) {
+      throw InputError(option, 0, option, e.what());
+    }
   }
   const sim::Simulator simulator(std::move(scenario), options);
 
