@@ -2,6 +2,7 @@
 // sim_truth.yaml, and IMU + VLC on a walker the constants were not tuned on (seed 61: not
 // among the tuning seeds 1-10) stays within the accuracy the README claims.
 #include <catch2/catch.hpp>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -21,28 +22,44 @@ std::vector<PoseRow> poses_between(const std::vector<PoseRow>& poses, double a, 
     if (p.t >= seconds_to_ns(a) && p.t < seconds_to_ns(b)) w.push_back(p);
   return w;
 }
+// `sim --out DIR/walk SIM_ARGS` (scratch dir `name`), then `run` on it with defaults; the
+// session, the simulator's output, the truth and the poses.
+struct SimulatedRun {
+  std::filesystem::path dir, session;
+  std::string sim_output;
+  std::vector<TruthRow> truth;
+  std::vector<PoseRow> poses;
+};
+SimulatedRun simulate_and_run(const std::string& name, const std::string& sim_args) {
+  SimulatedRun r;
+  r.dir = test::scratch_dir(name);
+  r.session = r.dir / "walk";
+  const auto sim = run_luxloc("sim --out '" + r.session.string() + "' " + sim_args);
+  INFO(sim.output);
+  REQUIRE(sim.exit_code == 0);
+  r.sim_output = sim.output;
+  const auto poses_csv = r.dir / "poses.csv";
+  const auto run = run_luxloc("run --playback '" + r.session.string() + "' --out '" + poses_csv.string() + "'");
+  INFO(run.output);
+  REQUIRE(run.exit_code == 0);
+  r.truth = read_truth_csv((r.session / "groundtruth.csv").string());
+  r.poses = read_pose_file(poses_csv.string());
+  return r;
+}
 }  // namespace
 
 TEST_CASE("sim --walker random: the draw is recorded, IMU + VLC on it within 5 cm RMSE", "[e2e][walker]") {
-  const auto dir = test::scratch_dir("walker_random");
-  const auto session = dir / "walk";
-  const auto sim = run_luxloc("sim --out '" + session.string() + "' --walker random --seed 61 --imu-grade consumer");
-  INFO(sim.output);
-  REQUIRE(sim.exit_code == 0);
-  const std::string truth_yaml = test::read_text(session / "sim_truth.yaml");
+  const SimulatedRun r = simulate_and_run("walker_random", "--walker random --seed 61 --imu-grade consumer");
+  const std::string truth_yaml = test::read_text(r.session / "sim_truth.yaml");
   CHECK_THAT(truth_yaml, Catch::Contains("walker:") && Catch::Contains("step_length_m") && Catch::Contains("step_hz"));
-  const auto poses = dir / "poses.csv";
-  const auto run = run_luxloc("run --playback '" + session.string() + "' --out '" + poses.string() + "'");
-  INFO(run.output);
-  REQUIRE(run.exit_code == 0);
-  const EvalResult e = evaluate(read_truth_csv((session / "groundtruth.csv").string()), read_pose_file(poses.string()));
+  const EvalResult e = evaluate(r.truth, r.poses);
   WARN("random walker (seed 61): ATE RMSE " << e.rmse_m << " m, p95 " << e.p95_m << ", max " << e.max_m << ", "
                                             << 100.0 * e.consistency << " % within the 95 % ellipse");
   CHECK(e.rmse_m <= 0.05);
   CHECK(e.p95_m <= 0.10);
   CHECK(e.consistency >= 0.75);
   // A walker cannot be drawn for a scenario without one.
-  const auto bad = run_luxloc("sim --out '" + (dir / "x").string() + "' --scenario static --walker random");
+  const auto bad = run_luxloc("sim --out '" + (r.dir / "x").string() + "' --scenario static --walker random");
   CHECK(bad.exit_code != 0);
   CHECK_THAT(bad.output, Catch::Contains("no walker"));
 }
@@ -54,20 +71,10 @@ TEST_CASE("sim --walker random: the draw is recorded, IMU + VLC on it within 5 c
 // ellipse (100 %; before, the spread of the pinned-down k was too narrow on other seeds).
 TEST_CASE("sim --walker random, 15 s blackout: within 0.5 m in the dark, sigma covers it, 0.1 m 2 s after",
           "[e2e][walker]") {
-  const auto dir = test::scratch_dir("walker_blackout");
-  const auto session = dir / "walk";
-  const auto sim = run_luxloc("sim --out '" + session.string() +
-                              "' --walker random --seed 1 --imu-grade consumer --blackout 40:15");
-  INFO(sim.output);
-  REQUIRE(sim.exit_code == 0);
-  const auto poses_csv = dir / "poses.csv";
-  const auto run = run_luxloc("run --playback '" + session.string() + "' --out '" + poses_csv.string() + "'");
-  INFO(run.output);
-  REQUIRE(run.exit_code == 0);
-  const auto truth = read_truth_csv((session / "groundtruth.csv").string());
-  const auto poses = read_pose_file(poses_csv.string());
-  const auto window = [&](double a, double b) { return evaluate(truth, poses_between(poses, a, b)); };
-  const EvalResult dark = window(40.0, 55.0), after = window(57.0, 58.0), all = evaluate(truth, poses);
+  const SimulatedRun r =
+      simulate_and_run("walker_blackout", "--walker random --seed 1 --imu-grade consumer --blackout 40:15");
+  const auto window = [&](double a, double b) { return evaluate(r.truth, poses_between(r.poses, a, b)); };
+  const EvalResult dark = window(40.0, 55.0), after = window(57.0, 58.0), all = evaluate(r.truth, r.poses);
   WARN("blackout (seed 1): max " << dark.max_m << " m, " << 100.0 * dark.consistency
                                  << " % within the 95 % ellipse, mean sigma " << dark.mean_sigma_m << " m; 2-3 s after: max "
                                  << after.max_m << " m");
@@ -113,25 +120,17 @@ TEST_CASE("sim --walker random, 15 s blackout: the gait fitted to the track carr
 // lens; the LED frequencies planned for it, as `calib ledmap plan` would) on a drawn walker
 // (tuning seed 3): as accurate as the default VGA camera, the mode recorded in sim_truth.yaml.
 TEST_CASE("sim --camera-mode 1280x720:45:200:70: IMU + VLC within 5 cm RMSE, sigma covers it", "[e2e][walker][world]") {
-  const auto dir = test::scratch_dir("camera_mode_720p");
-  const auto session = dir / "walk";
-  const auto sim = run_luxloc("sim --out '" + session.string() +
-                              "' --walker random --seed 3 --imu-grade consumer --camera-mode 1280x720:45:200:70");
-  INFO(sim.output);
-  REQUIRE(sim.exit_code == 0);
-  CHECK_THAT(sim.output, Catch::Contains("camera 1280x720, 45.0 us rows, 200 us exposure"));
-  CHECK_THAT(test::read_text(session / "sim_truth.yaml"), Catch::Contains("world:") && Catch::Contains("camera-mode"));
-  const auto poses = dir / "poses.csv";
-  const auto run = run_luxloc("run --playback '" + session.string() + "' --out '" + poses.string() + "'");
-  INFO(run.output);
-  REQUIRE(run.exit_code == 0);
-  const EvalResult e = evaluate(read_truth_csv((session / "groundtruth.csv").string()), read_pose_file(poses.string()));
+  const SimulatedRun r = simulate_and_run(
+      "camera_mode_720p", "--walker random --seed 3 --imu-grade consumer --camera-mode 1280x720:45:200:70");
+  CHECK_THAT(r.sim_output, Catch::Contains("camera 1280x720, 45.0 us rows, 200 us exposure"));
+  CHECK_THAT(test::read_text(r.session / "sim_truth.yaml"), Catch::Contains("world:") && Catch::Contains("camera-mode"));
+  const EvalResult e = evaluate(r.truth, r.poses);
   WARN("720p webcam mode (seed 3): ATE RMSE " << e.rmse_m << " m, p95 " << e.p95_m << ", max " << e.max_m << ", "
                                                << 100.0 * e.consistency << " % within the 95 % ellipse");
   CHECK(e.rmse_m <= 0.05);
   CHECK(e.p95_m <= 0.10);
   CHECK(e.consistency >= 0.85);
-  const auto bad = run_luxloc("sim --out '" + (dir / "x").string() + "' --camera-mode 1280x720:45");
+  const auto bad = run_luxloc("sim --out '" + (r.dir / "x").string() + "' --camera-mode 1280x720:45");
   CHECK(bad.exit_code != 0);
   CHECK_THAT(bad.output, Catch::Contains("--camera-mode") && Catch::Contains("WxH:ROW_US:EXPOSURE_US"));
 }
@@ -142,20 +141,12 @@ TEST_CASE("sim --camera-mode 1280x720:45:200:70: IMU + VLC within 5 cm RMSE, sig
 // 0.97 to 1.24 (the walker needs 1.01) and the filter ran 0.73 m off in 2 s of dark; with
 // GaitRegressionOptions::min_windows the particles keep their own k (max 0.21 m).
 TEST_CASE("sim --world random: sparse lights, the first dark stretch of the walk within 0.4 m", "[e2e][walker][world]") {
-  const auto dir = test::scratch_dir("world_random");
-  const auto session = dir / "walk";
-  const auto sim =
-      run_luxloc("sim --out '" + session.string() + "' --walker random --seed 7 --imu-grade consumer --world random");
-  INFO(sim.output);
-  REQUIRE(sim.exit_code == 0);
-  const std::string truth_yaml = test::read_text(session / "sim_truth.yaml");
+  const SimulatedRun r =
+      simulate_and_run("world_random", "--walker random --seed 7 --imu-grade consumer --world random");
+  const std::string truth_yaml = test::read_text(r.session / "sim_truth.yaml");
   CHECK_THAT(truth_yaml, Catch::Contains("world:") && Catch::Contains("layout: irregular") &&
                              Catch::Contains("band_hz"));
-  const auto poses = dir / "poses.csv";
-  const auto run = run_luxloc("run --playback '" + session.string() + "' --out '" + poses.string() + "'");
-  INFO(run.output);
-  REQUIRE(run.exit_code == 0);
-  const EvalResult e = evaluate(read_truth_csv((session / "groundtruth.csv").string()), read_pose_file(poses.string()));
+  const EvalResult e = evaluate(r.truth, r.poses);
   WARN("drawn world (seed 7): ATE RMSE " << e.rmse_m << " m, p95 " << e.p95_m << ", max " << e.max_m << ", "
                                           << 100.0 * e.consistency << " % within the 95 % ellipse");
   CHECK(e.rmse_m <= 0.08);
@@ -169,19 +160,9 @@ TEST_CASE("sim --world random: sparse lights, the first dark stretch of the walk
 // sigma of 5 cm (no pose of 36-44 s within its 95 % ellipse). With the payout's own noise
 // (MotionSourceOptions::stop_owed_sigma) sigma covers it.
 TEST_CASE("720p webcam mode, a stop in the dark: sigma covers what the last steps overpaid", "[e2e][walker][world]") {
-  const auto dir = test::scratch_dir("camera_mode_stop");
-  const auto session = dir / "walk";
-  const auto sim = run_luxloc("sim --out '" + session.string() +
-                              "' --walker random --seed 6 --imu-grade consumer --camera-mode 1280x720:45:200:70");
-  INFO(sim.output);
-  REQUIRE(sim.exit_code == 0);
-  const auto poses_csv = dir / "poses.csv";
-  const auto run = run_luxloc("run --playback '" + session.string() + "' --out '" + poses_csv.string() + "'");
-  INFO(run.output);
-  REQUIRE(run.exit_code == 0);
-  const auto truth = read_truth_csv((session / "groundtruth.csv").string());
-  const auto poses = read_pose_file(poses_csv.string());
-  const EvalResult stop = evaluate(truth, poses_between(poses, 36.5, 44.0)), all = evaluate(truth, poses);
+  const SimulatedRun r = simulate_and_run(
+      "camera_mode_stop", "--walker random --seed 6 --imu-grade consumer --camera-mode 1280x720:45:200:70");
+  const EvalResult stop = evaluate(r.truth, poses_between(r.poses, 36.5, 44.0)), all = evaluate(r.truth, r.poses);
   WARN("stop in the dark (seed 6): max " << stop.max_m << " m, " << 100.0 * stop.consistency
                                          << " % within the 95 % ellipse; session " << 100.0 * all.consistency << " %");
   REQUIRE(stop.n > 300);
@@ -196,18 +177,10 @@ TEST_CASE("720p webcam mode, a stop in the dark: sigma covers what the last step
 // against a 4.7 cm error (90 % of the first 40 s within the ellipse); at least the whole
 // dz x tilt sigma (FusionOptions::tilt_floor_min) covers it (98 %).
 TEST_CASE("sim --world random, a high ceiling seen by a sharp camera: sigma covers the tilt", "[e2e][walker][world]") {
-  const auto dir = test::scratch_dir("world_high_ceiling");
-  const auto session = dir / "walk";
-  const auto sim = run_luxloc("sim --out '" + session.string() +
-                              "' --walker random --seed 30 --imu-grade consumer --world random --duration 40");
-  INFO(sim.output);
-  REQUIRE(sim.exit_code == 0);
-  CHECK_THAT(sim.output, Catch::Contains("camera 1920x1080"));
-  const auto poses = dir / "poses.csv";
-  const auto run = run_luxloc("run --playback '" + session.string() + "' --out '" + poses.string() + "'");
-  INFO(run.output);
-  REQUIRE(run.exit_code == 0);
-  const EvalResult e = evaluate(read_truth_csv((session / "groundtruth.csv").string()), read_pose_file(poses.string()));
+  const SimulatedRun r = simulate_and_run(
+      "world_high_ceiling", "--walker random --seed 30 --imu-grade consumer --world random --duration 40");
+  CHECK_THAT(r.sim_output, Catch::Contains("camera 1920x1080"));
+  const EvalResult e = evaluate(r.truth, r.poses);
   WARN("high ceiling (world seed 30): ATE RMSE " << e.rmse_m << " m, " << 100.0 * e.consistency
                                                 << " % within the 95 % ellipse, mean sigma " << e.mean_sigma_m);
   CHECK(e.rmse_m <= 0.06);

@@ -8,15 +8,24 @@
 
 using namespace luxloc;
 
-TEST_CASE("pdr motion: a walk's last steps are paid out after the walker stops, then nothing moves", "[motion]") {
-  // The sim walk stops at 61 s for 2 s (seed 1: at 31 s little is owed). Its last steps are confirmed 0.3 s after their heel
-  // strikes, when the bounce has already died: the distance they add must still reach the
-  // filter (it was dropped: ~0.2 m short along the walk at every stop).
+namespace {
+
+// What one prediction saw on the sim walk (seed 1, the stop at 61 s): its time, the regime
+// before and after the input, the distance output before it, and the input.
+struct Prediction {
+  double t;
+  MotionRegime before, after;
+  double output_before;
+  const MotionInput& u;
+};
+
+// Feeds the sim walk (seed 1) to `ms` up to 62.9 s with the true attitude, calling `see`
+// with every prediction after the first sample.
+template <class See>
+void walk_to_the_stop(MotionSource& ms, See see) {
   const test::SimWalk& w = test::sim_walk(1);
-  MotionSource ms;
   TimeNs t_prev = 0;
-  bool first = true, stopped = false;
-  double output_before_stop = 0.0, paid_still = 0.0, paid_late = 0.0, stop_t = 0.0;
+  bool first = true;
   for (const ImuSample& s : w.imu) {
     const double t = ns_to_seconds(s.t);
     if (t > 62.9) break;
@@ -25,20 +34,39 @@ TEST_CASE("pdr motion: a walk's last steps are paid out after the walker stops, 
       const MotionRegime before = ms.regime();
       const double output_before = ms.gait().output_m();
       const MotionInput u = ms.input(t_prev, s.t);
-      if (t > 50.0 && !stopped && before == MotionRegime::gait && ms.regime() == MotionRegime::still) {
-        stopped = true;
-        stop_t = t;
-        output_before_stop = output_before;
-      }
-      if (stopped && u.has_gait) {
-        paid_still += u.gait.speed_mps * u.dt;
-        if (t >= 62.3) paid_late += u.gait.speed_mps * u.dt;
-      }
-      if (stopped) CHECK_FALSE(u.has_acc);  // no strapdown while standing
+      see(Prediction{t, before, ms.regime(), output_before, u});
     }
     first = false;
     t_prev = s.t;
   }
+}
+
+// The first gait -> still transition after 50 s: the walk's stop.
+bool stops(const Prediction& p) {
+  return p.t > 50.0 && p.before == MotionRegime::gait && p.after == MotionRegime::still;
+}
+
+}  // namespace
+
+TEST_CASE("pdr motion: a walk's last steps are paid out after the walker stops, then nothing moves", "[motion]") {
+  // The sim walk stops at 61 s for 2 s (seed 1: at 31 s little is owed). Its last steps are confirmed 0.3 s after their heel
+  // strikes, when the bounce has already died: the distance they add must still reach the
+  // filter (it was dropped: ~0.2 m short along the walk at every stop).
+  MotionSource ms;
+  bool stopped = false;
+  double output_before_stop = 0.0, paid_still = 0.0, paid_late = 0.0, stop_t = 0.0;
+  walk_to_the_stop(ms, [&](const Prediction& p) {
+    if (!stopped && stops(p)) {
+      stopped = true;
+      stop_t = p.t;
+      output_before_stop = p.output_before;
+    }
+    if (stopped && p.u.has_gait) {
+      paid_still += p.u.gait.speed_mps * p.u.dt;
+      if (p.t >= 62.3) paid_late += p.u.gait.speed_mps * p.u.dt;
+    }
+    if (stopped) CHECK_FALSE(p.u.has_acc);  // no strapdown while standing
+  });
   const double owed = ms.gait().expected_m() - output_before_stop;
   INFO("stepping ended at " << stop_t << " s owing " << owed << " m; paid since " << paid_still << " m");
   REQUIRE(stopped);
@@ -55,32 +83,23 @@ TEST_CASE("pdr motion: what the last steps owe at a stop is paid with along-trac
   // MotionSourceOptions::stop_owed_sigma (0.7): over the payout the along-track variance the
   // filters add (length_sigma^2 / T per second) sums to f^2 owed^2 / 2, 1 sigma ~0.5 x owed;
   // while walking the per-step noise stays the step's own (5 % of its length).
-  const test::SimWalk& w = test::sim_walk(1);
+  // The along-track variance the filters add over one input: length_sigma^2 / T per second.
+  const auto variance = [](const MotionInput& u) {
+    return u.gait.length_sigma_m * u.gait.length_sigma_m / u.gait.step_period_s * u.dt;
+  };
   MotionSource ms;
-  TimeNs t_prev = 0;
-  bool first = true, stopped = false;
+  bool stopped = false;
   double var_still = 0.0, output_before_stop = 0.0, max_walking_sigma_share = 0.0;
-  for (const ImuSample& s : w.imu) {
-    const double t = ns_to_seconds(s.t);
-    if (t > 62.9) break;
-    ms.update(s, w.simulator.truth(t).R_BtoW);
-    if (!first) {
-      const MotionRegime before = ms.regime();
-      const double output_before = ms.gait().output_m();
-      const MotionInput u = ms.input(t_prev, s.t);
-      if (t > 50.0 && !stopped && before == MotionRegime::gait && ms.regime() == MotionRegime::still) {
-        stopped = true;
-        output_before_stop = output_before;
-      }
-      const double T = u.gait.step_period_s;
-      if (stopped && u.has_gait) var_still += u.gait.length_sigma_m * u.gait.length_sigma_m / T * u.dt;
-      if (ms.regime() == MotionRegime::gait && u.gait.speed_mps > 0.0 && ms.gait().has_step())
-        max_walking_sigma_share =
-            std::max(max_walking_sigma_share, u.gait.length_sigma_m / ms.gait().last_step().length_m);
+  walk_to_the_stop(ms, [&](const Prediction& p) {
+    if (!stopped && stops(p)) {
+      stopped = true;
+      output_before_stop = p.output_before;
     }
-    first = false;
-    t_prev = s.t;
-  }
+    if (stopped && p.u.has_gait) var_still += variance(p.u);
+    if (p.after == MotionRegime::gait && p.u.gait.speed_mps > 0.0 && ms.gait().has_step())
+      max_walking_sigma_share =
+          std::max(max_walking_sigma_share, p.u.gait.length_sigma_m / ms.gait().last_step().length_m);
+  });
   REQUIRE(stopped);
   const double owed = ms.gait().expected_m() - output_before_stop;
   INFO("owed " << owed << " m at the stop, payout sigma " << std::sqrt(var_still) << " m");
@@ -94,21 +113,11 @@ TEST_CASE("pdr motion: what the last steps owe at a stop is paid with along-trac
   MotionSourceOptions none;
   none.stop_owed_sigma = 0.0;
   MotionSource quiet(none);
-  first = true;
   stopped = false;
   double var_quiet = 0.0;
-  for (const ImuSample& s : w.imu) {
-    const double t = ns_to_seconds(s.t);
-    if (t > 62.9) break;
-    quiet.update(s, w.simulator.truth(t).R_BtoW);
-    if (!first) {
-      const MotionRegime before = quiet.regime();
-      const MotionInput u = quiet.input(t_prev, s.t);
-      if (t > 50.0 && !stopped && before == MotionRegime::gait && quiet.regime() == MotionRegime::still) stopped = true;
-      if (stopped && u.has_gait) var_quiet += u.gait.length_sigma_m * u.gait.length_sigma_m / u.gait.step_period_s * u.dt;
-    }
-    first = false;
-    t_prev = s.t;
-  }
+  walk_to_the_stop(quiet, [&](const Prediction& p) {
+    stopped = stopped || stops(p);
+    if (stopped && p.u.has_gait) var_quiet += variance(p.u);
+  });
   CHECK(var_quiet < 0.5 * var_still);  // the step's own 5 % only
 }
