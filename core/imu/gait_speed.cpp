@@ -48,8 +48,6 @@ void GaitSpeed::update(TimeNs t, double a_up_mps2, double a_along_mps2, double y
     turn_integral_ += turn_factor() * std::min(dts, 0.2);
     abs_turn_integral_ += abs_yaw_rate_ * std::min(dts, 0.2);
   }
-  turn_history_.push_back(TurnMark{t, turn_integral_, abs_turn_integral_});
-  while (turn_history_.size() > 2 && t - turn_history_.front().t > seconds_to_ns(4.0)) turn_history_.pop_front();
   bounce_.emplace_back(t, a_up_mps2);
   bounce_sum2_ += a_up_mps2 * a_up_mps2;
   const TimeNs w = seconds_to_ns(options_.bounce_window_s);
@@ -57,6 +55,9 @@ void GaitSpeed::update(TimeNs t, double a_up_mps2, double a_along_mps2, double y
     bounce_sum2_ -= bounce_.front().second * bounce_.front().second;
     bounce_.pop_front();
   }
+  if (have_t_) pace_integral_ += rate_factor() * turn_factor() * std::min(ns_to_seconds(t - t_), 0.2);
+  turn_history_.push_back(TurnMark{t, turn_integral_, abs_turn_integral_, pace_integral_});
+  while (turn_history_.size() > 2 && t - turn_history_.front().t > seconds_to_ns(4.0)) turn_history_.pop_front();
   const double dt = have_t_ ? ns_to_seconds(t - t_) : 0.0;
   t_ = t;
   have_t_ = true;
@@ -98,8 +99,11 @@ void GaitSpeed::add_step(const Step& step) {
   speed_mps_ = std::min(step.length_m / period_s_, options_.max_speed_mps);
   last_ = step;
   have_step_ = true;
-  // The walk since this heel strike, at this step's pace.
-  extrapolated_m_ = speed_mps_ * std::max(0.0, ns_to_seconds(t_ - step.t));
+  // The walk since this heel strike, at this step's pace: scaled by the bounce since then
+  // (GaitSpeedOptions::catch_up_by_bounce), as the extrapolation is.
+  extrapolated_m_ = options_.catch_up_by_bounce
+                        ? speed_mps_ * std::max(0.0, pace_integral_ - turn_integral_at(step.t, &TurnMark::pace))
+                        : speed_mps_ * std::max(0.0, ns_to_seconds(t_ - step.t));
   extrapolating_ = true;
   const double rms = bounce_rms();
   bounce_ref_ = bounce_ref_ > 0.0 ? (1.0 - options_.bounce_ref_weight) * bounce_ref_ + options_.bounce_ref_weight * rms

@@ -73,7 +73,9 @@ TEST_CASE("pdr motion: a walk's last steps are paid out after the walker stops, 
   CHECK(stop_t > 60.5);
   CHECK(stop_t < 61.8);
   CHECK(ms.regime() == MotionRegime::still);
-  CHECK(owed > 0.05);  // the case is real: the last step was confirmed after the bounce died
+  // The case is real: the last step was confirmed after the bounce died (0.044 m owed since
+  // its catch-up slows with the bounce, GaitSpeedOptions::catch_up_by_bounce; 0.2 m before).
+  CHECK(owed > 0.03);
   CHECK(paid_still == Approx(owed).margin(0.005));
   CHECK(std::abs(ms.gait().output_m() - ms.gait().expected_m()) < 0.005);
   CHECK(paid_late < 0.005);  // standing still moves nothing once it is paid
@@ -87,7 +89,11 @@ TEST_CASE("pdr motion: what the last steps owe at a stop is paid with along-trac
   const auto variance = [](const MotionInput& u) {
     return u.gait.length_sigma_m * u.gait.length_sigma_m / u.gait.step_period_s * u.dt;
   };
-  MotionSource ms;
+  // The last step's catch-up at the full pace: 0.2 m owed at this stop, so the payout's
+  // noise stands out of the step's own (with the bounce-scaled catch-up 0.04 m are owed).
+  MotionSourceOptions full_pace;
+  full_pace.gait.catch_up_by_bounce = false;
+  MotionSource ms(full_pace);
   bool stopped = false;
   double var_still = 0.0, output_before_stop = 0.0, max_walking_sigma_share = 0.0;
   walk_to_the_stop(ms, [&](const Prediction& p) {
@@ -103,14 +109,14 @@ TEST_CASE("pdr motion: what the last steps owe at a stop is paid with along-trac
   REQUIRE(stopped);
   const double owed = ms.gait().expected_m() - output_before_stop;
   INFO("owed " << owed << " m at the stop, payout sigma " << std::sqrt(var_still) << " m");
-  REQUIRE(owed > 0.05);
+  REQUIRE(owed > 0.1);
   // f / sqrt(2) = 0.49 of what is owed, plus (the larger of the two each instant) the step's
   // own 5 % that accrues while the servo pays.
   CHECK(std::sqrt(var_still) >= 0.45 * owed);
   CHECK(std::sqrt(var_still) <= 0.65 * owed);
   CHECK(max_walking_sigma_share == Approx(0.05).margin(1e-6));
 
-  MotionSourceOptions none;
+  MotionSourceOptions none = full_pace;
   none.stop_owed_sigma = 0.0;
   MotionSource quiet(none);
   stopped = false;

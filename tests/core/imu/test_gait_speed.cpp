@@ -1,5 +1,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <utility>
+#include <vector>
 
 #include "core/imu/gait_speed.hpp"
 
@@ -136,4 +138,59 @@ TEST_CASE("Gait speed pays out the turned angle with the distance, and none once
   REQUIRE(distance > 4.0);
   CHECK(angle / distance == Approx(1.0 / 1.4).epsilon(0.05));
   CHECK(angle_while_still == 0.0);
+}
+
+namespace {
+
+// A walker who slows to a stop as the simulator's does (core/sim/gait.hpp): speed v0 g(t),
+// g falling from 1 to 0 over [t_ramp, t_ramp + 1] s (a cosine), the step phase advancing
+// with g, so every step covers 0.7 m however slow; bounce 1.5 g^2 m/s^2 (the acceleration
+// of a bounce whose phase slows with g). Heel strikes are counted while g >= 0.5 and reported
+// 0.3 s late. Returns the distance handed out at the end minus the distance walked.
+double stop_overshoot(const GaitSpeedOptions& options) {
+  const double period = 1.0 / 1.8, length = 0.7, v0 = length / period, t_ramp = 8.0, dt = 0.01;
+  GaitSpeed gs(options);
+  double phase = 0.0, walked = 0.0, last_strike = 0.0;
+  int strikes = 0;
+  std::vector<std::pair<double, double>> pending;  // (heel strike, interval)
+  TimeNs t_prev = 0;
+  for (int k = 0; k <= 1200; ++k) {
+    const double t = 1.0 + k * dt;
+    const double g = t < t_ramp ? 1.0 : t > t_ramp + 1.0 ? 0.0 : 0.5 * (1.0 + std::cos(M_PI * (t - t_ramp)));
+    if (k > 0) {
+      walked += v0 * g * dt;
+      const double next = phase + g * dt / period;
+      if (std::floor(next) > std::floor(phase) && g >= 0.5) {
+        pending.emplace_back(t, strikes == 0 ? 0.0 : t - last_strike);
+        last_strike = t;
+        ++strikes;
+      }
+      phase = next;
+    }
+    gs.update(seconds_to_ns(t), 1.5 * g * g * std::cos(2 * M_PI * phase));
+    while (!pending.empty() && t >= pending.front().first + 0.3) {
+      Step s;
+      s.t = seconds_to_ns(pending.front().first);
+      s.length_m = length;
+      s.interval_s = pending.front().second;
+      gs.add_step(s);
+      pending.erase(pending.begin());
+    }
+    if (k > 0) gs.take_speed(t_prev, seconds_to_ns(t));
+    t_prev = seconds_to_ns(t);
+  }
+  // The first heel strike comes a whole step (0.7 m) into the walk: every step is 0.7 m.
+  return gs.output_m() - walked;
+}
+
+}  // namespace
+
+TEST_CASE("Gait speed does not overshoot a stop: the last step's catch-up slows with the bounce", "[imu][motion]") {
+  GaitSpeedOptions full_pace;
+  full_pace.catch_up_by_bounce = false;
+  const double with_bounce = stop_overshoot(GaitSpeedOptions{}), at_full_pace = stop_overshoot(full_pace);
+  INFO("overshoot at the stop: " << with_bounce << " m (catch-up by bounce), " << at_full_pace << " m (full pace)");
+  CHECK(std::abs(with_bounce) < 0.05);
+  CHECK(at_full_pace > 0.1);
+  CHECK(at_full_pace - with_bounce > 0.07);
 }
