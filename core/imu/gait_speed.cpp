@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace luxloc {
 
@@ -18,6 +19,10 @@ bool GaitSpeed::walking() const { return bounce_rms() >= options_.bounce_rms_mps
 double GaitSpeed::rate_factor() const {
   if (!options_.scale_by_bounce || !(bounce_ref_ > 0.0)) return 1.0;
   return std::clamp(bounce_rms() / bounce_ref_, 0.0, 1.0);
+}
+
+double GaitSpeed::extrapolation_pace() const {
+  return options_.extrapolate_at_reference_pace && pace_ref_ > 0.0 ? pace_ref_ : speed_mps_;
 }
 
 double GaitSpeed::turn_factor() const {
@@ -79,7 +84,7 @@ void GaitSpeed::update(TimeNs t, double a_up_mps2, double a_along_mps2, double y
     extrapolating_ = false;
     return;
   }
-  extrapolated_m_ += speed_mps_ * rate_factor() * turn_factor() * dt;
+  extrapolated_m_ += extrapolation_pace() * rate_factor() * turn_factor() * dt;
   extrapolated_turn_ += abs_yaw_rate_ * rate_factor() * dt;
 }
 
@@ -97,12 +102,20 @@ void GaitSpeed::add_step(const Step& step) {
   steps_turn_ += std::max(0.0, angle_at_step - turn_integral_at(t_from, &TurnMark::angle));
   extrapolated_turn_ = std::max(0.0, abs_turn_integral_ - angle_at_step);
   speed_mps_ = std::min(step.length_m / period_s_, options_.max_speed_mps);
+  // The walking pace: the median of the last paces, so that one step's odd interval (a
+  // walk's first, a spurious detection) does not carry into the next steps.
+  recent_paces_.push_back(speed_mps_);
+  while (recent_paces_.size() > static_cast<std::size_t>(std::max(options_.pace_median_steps, 1)))
+    recent_paces_.pop_front();
+  std::vector<double> sorted(recent_paces_.begin(), recent_paces_.end());
+  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+  pace_ref_ = sorted[sorted.size() / 2];
   last_ = step;
   have_step_ = true;
-  // The walk since this heel strike, at this step's pace: scaled by the bounce since then
+  // The walk since this heel strike, at the walking pace scaled by the bounce since then
   // (GaitSpeedOptions::catch_up_by_bounce), as the extrapolation is.
   extrapolated_m_ = options_.catch_up_by_bounce
-                        ? speed_mps_ * std::max(0.0, pace_integral_ - turn_integral_at(step.t, &TurnMark::pace))
+                        ? extrapolation_pace() * std::max(0.0, pace_integral_ - turn_integral_at(step.t, &TurnMark::pace))
                         : speed_mps_ * std::max(0.0, ns_to_seconds(t_ - step.t));
   extrapolating_ = true;
   const double rms = bounce_rms();
@@ -115,7 +128,7 @@ double GaitSpeed::take_speed(TimeNs t0, TimeNs t1) {
   turn_paid_rps_ = 0.0;
   if (!(dt > 0.0) || !have_t_) return 0.0;
   // The extrapolation's current rate, plus the servo onto the expected distance.
-  const double rate = extrapolating_ ? speed_mps_ * rate_factor() : 0.0;
+  const double rate = extrapolating_ ? extrapolation_pace() * rate_factor() : 0.0;
   const double tau = std::max(options_.servo_tau_s, dt);
   const double v = std::clamp(rate + (expected_m() - output_m_) / tau, 0.0, options_.max_speed_mps);
   output_m_ += v * dt;
