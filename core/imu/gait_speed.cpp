@@ -46,13 +46,12 @@ void GaitSpeed::update(TimeNs t, double a_up_mps2, double a_along_mps2, double y
   if (!std::isfinite(a_up_mps2) || (have_t_ && t <= t_)) return;
   if (!std::isfinite(a_along_mps2)) a_along_mps2 = 0.0;
   if (!std::isfinite(yaw_rate_rps)) yaw_rate_rps = 0.0;
-  if (have_t_) {
-    const double dts = ns_to_seconds(t - t_);
-    const double w = std::min(1.0, dts / std::max(options_.turn_window_s, 1e-3));
-    abs_yaw_rate_ += w * (std::abs(yaw_rate_rps) - abs_yaw_rate_);
-    turn_integral_ += turn_factor() * std::min(dts, 0.2);
-    abs_turn_integral_ += abs_yaw_rate_ * std::min(dts, 0.2);
-  }
+  // The first sample has no interval: dt = 0 leaves the averages and integrals as they are.
+  const double dt = have_t_ ? ns_to_seconds(t - t_) : 0.0;
+  const double dt_capped = std::min(dt, 0.2);  // a gap in the data is not walked through
+  abs_yaw_rate_ += std::min(1.0, dt / std::max(options_.turn_window_s, 1e-3)) * (std::abs(yaw_rate_rps) - abs_yaw_rate_);
+  turn_integral_ += turn_factor() * dt_capped;
+  abs_turn_integral_ += abs_yaw_rate_ * dt_capped;
   bounce_.emplace_back(t, a_up_mps2);
   bounce_sum2_ += a_up_mps2 * a_up_mps2;
   const TimeNs w = seconds_to_ns(options_.bounce_window_s);
@@ -60,10 +59,9 @@ void GaitSpeed::update(TimeNs t, double a_up_mps2, double a_along_mps2, double y
     bounce_sum2_ -= bounce_.front().second * bounce_.front().second;
     bounce_.pop_front();
   }
-  if (have_t_) pace_integral_ += rate_factor() * turn_factor() * std::min(ns_to_seconds(t - t_), 0.2);
+  pace_integral_ += rate_factor() * turn_factor() * dt_capped;
   turn_history_.push_back(TurnMark{t, turn_integral_, abs_turn_integral_, pace_integral_});
   while (turn_history_.size() > 2 && t - turn_history_.front().t > seconds_to_ns(4.0)) turn_history_.pop_front();
-  const double dt = have_t_ ? ns_to_seconds(t - t_) : 0.0;
   t_ = t;
   have_t_ = true;
   if (!extrapolating_) {

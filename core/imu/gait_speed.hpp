@@ -6,8 +6,8 @@
 // applying l_k when it is known would lag the walker by that much plus a whole step.
 // Instead the walked distance is extrapolated from the last heel strike at the walking pace
 // (the median of the last steps' l_k / T_k: a walker keeps its pace), for at most one step
-// period plus the confirmation delay. While extrapolating, the speed is scaled by the bounce of the
-// vertical acceleration (its RMS over one step) relative to the bounce seen at the steps:
+// period plus the confirmation delay. While extrapolating, the speed is scaled by the bounce
+// of the vertical acceleration (its RMS over one step) relative to the bounce seen at the steps:
 // a walker who slows down to stop bounces less, one who stopped does not bounce (the
 // extrapolation then ends). The output speed is the rate of that extrapolation plus a
 // servo (time constant servo_tau_s) onto it of the distance already output, so the
@@ -70,7 +70,8 @@ struct GaitSpeedOptions {
   // distance from 2.5 s before to 1.5 s after each stop +0.078 m on average, rms 0.114, up
   // to 0.28 m); scaled by the bounce +0.011 m, rms 0.066. false: the full pace.
   bool catch_up_by_bounce = true;
-  // The extrapolation (and the catch-up above) runs at the walking pace, the median of the
+  // The extrapolation (and, with catch_up_by_bounce, the catch-up above; without it the
+  // catch-up keeps the last step's full pace) runs at the walking pace, the median of the
   // last pace_median_steps steps' paces (the bounce it is scaled against is likewise the
   // steps' average), not at the last step's pace. The last step's own pace carries a ramp:
   // a walk's first step has a short Weinberg length (its bounce was small) and no interval
