@@ -29,7 +29,14 @@ Gait::Gait(std::vector<WalkInterval> walking, const GaitOptions& options)
       throw std::invalid_argument("Gait: walking intervals overlap or are shorter than two ramps");
     prev_stop = w.stop_s;
   }
+  if (!opt_.pace_waves.empty())
+    drift_ = std::make_shared<const PaceDrift>(opt_.pace_waves, opt_.step_hz, opt_.speed_modulation, opt_.pace_horizon_s);
 }
+
+namespace {
+// f(G(t)) from f's derivatives in G and the Jet G(t): (f o G)' = f' G', (f o G)'' = f'' G'^2 + f' G''.
+Jet compose(const Jet& f, const Jet& G) { return {f.v, f.d * G.d, f.dd * G.d * G.d + f.d * G.dd}; }
+}  // namespace
 
 Jet Gait::envelope(double t) const {
   const double T = opt_.ramp_s;
@@ -63,12 +70,34 @@ Jet Gait::walked_time(double t) const {
   return {G, g.v, g.d};
 }
 
-Jet Gait::step_phase(double t) const { return 2.0 * std::numbers::pi * opt_.step_hz * walked_time(t); }
+Jet Gait::step_count(double t) const {
+  const Jet G = walked_time(t);
+  if (!drift_) return opt_.step_hz * G;
+  const Jet c = drift_->cadence_factor(G.v);
+  return opt_.step_hz * compose({drift_->steps(G.v) / opt_.step_hz, c.v, c.d}, G);
+}
+
+Jet Gait::step_phase(double t) const {
+  if (!drift_) return 2.0 * std::numbers::pi * opt_.step_hz * walked_time(t);  // bit for bit as before drifts
+  return 2.0 * std::numbers::pi * step_count(t);
+}
+
+Jet Gait::distance_in_walked_time(double G) const {
+  if (drift_) return drift_->distance(G);
+  const double k = 2.0 * std::numbers::pi * opt_.step_hz, m = opt_.speed_modulation;
+  return {G + m * std::sin(k * G) / k, 1.0 + m * std::cos(k * G), -m * k * std::sin(k * G)};
+}
+
+Jet Gait::length_factor(double t) const {
+  if (!drift_) return Jet::constant(1.0);
+  const Jet G = walked_time(t);
+  return compose(drift_->length_factor(G.v), G);
+}
 
 std::optional<double> Gait::heel_strike_near(double t, double window_s) const {
   // f G(t) is non-decreasing: a strike (f G = k, k >= 1) lies in [t - w, t + w] when an
   // integer lies in (f G(t - w), f G(t + w)]; bisection finds its first time.
-  const double s0 = opt_.step_hz * walked_time(t - window_s).v, s1 = opt_.step_hz * walked_time(t + window_s).v;
+  const double s0 = step_count(t - window_s).v, s1 = step_count(t + window_s).v;
   const double k = std::floor(s1);
   if (!(k > s0) || k < 1.0) return std::nullopt;
   // To the last bit: the same strike time whatever the window (a jitter of 1 ns would move
@@ -77,20 +106,20 @@ std::optional<double> Gait::heel_strike_near(double t, double window_s) const {
   for (int it = 0; it < 200; ++it) {
     const double mid = 0.5 * (lo + hi);
     if (mid <= lo || mid >= hi) break;
-    (opt_.step_hz * walked_time(mid).v >= k ? hi : lo) = mid;
+    (step_count(mid).v >= k ? hi : lo) = mid;
   }
   return hi;
 }
 
 std::vector<double> Gait::heel_strikes(double until_s) const {
   std::vector<double> out;
-  const double steps_total = opt_.step_hz * walked_time(until_s).v;
+  const double steps_total = step_count(until_s).v;
   for (int k = 1; k <= static_cast<int>(std::floor(steps_total)); ++k) {
     // First time with f G(t) >= k (G is non-decreasing): bisection to ~1e-9 s.
     double lo = 0.0, hi = until_s;
     for (int it = 0; it < 64 && hi - lo > 1e-10; ++it) {
       const double mid = 0.5 * (lo + hi);
-      (opt_.step_hz * walked_time(mid).v >= k ? hi : lo) = mid;
+      (step_count(mid).v >= k ? hi : lo) = mid;
     }
     if (envelope(hi).v >= opt_.min_step_envelope) out.push_back(hi);
   }

@@ -3,10 +3,12 @@
 // 1 walking at the nominal speed) made of walking intervals with C2 ramps, its integral
 // G(t) ("walking time"), and the step phase phi = 2 pi f_step G(t). Heel strikes happen at
 // phi = 2 pi k, so the cadence slows with the envelope and freezes during stops.
+#include <memory>
 #include <optional>
 #include <vector>
 
 #include "core/sim/jet.hpp"
+#include "core/sim/pace_drift.hpp"
 
 namespace luxloc::sim {
 
@@ -34,6 +36,10 @@ struct GaitOptions {
   double heel_impact_mps2 = 0.0;
   // w: 12 ms, a spike of ~50 ms base, within the 10-50 ms of measured shank and hip impacts.
   double heel_impact_width_s = 0.012;
+  // The pace drifting within the session (core/sim/pace_drift.hpp): the speed factor's slow
+  // waves in walked time; none when empty (every scenario; `--walker random` draws them).
+  std::vector<PaceWave> pace_waves;
+  double pace_horizon_s = 3600.0;  // walked time the drift's tables cover
 };
 
 class Gait {
@@ -43,7 +49,14 @@ class Gait {
 
   Jet envelope(double t) const;      // g, g', g''
   Jet walked_time(double t) const;   // G = integral of g, with G' = g and G'' = g'
-  Jet step_phase(double t) const;    // phi = 2 pi step_hz G (radians)
+  Jet step_count(double t) const;    // N = step_hz G, or step_hz int_0^G c with a drift
+  Jet step_phase(double t) const;    // phi = 2 pi N (radians)
+  // The walked distance in nominal-speed seconds, D = int (1 + m cos phi) dG (with a drift
+  // int q (1 + m cos phi) dG), as a function of the walked time G: D, dD/dG, d2D/dG2.
+  Jet distance_in_walked_time(double G) const;
+  // The step-length factor l (1 without a drift) at time t, with its time derivatives.
+  Jet length_factor(double t) const;
+  bool drifts() const { return drift_ != nullptr; }
   std::vector<double> heel_strikes(double until_s) const;
   // The heel strike nearest to t within +-window_s (any envelope), if one is.
   std::optional<double> heel_strike_near(double t, double window_s) const;
@@ -52,6 +65,7 @@ class Gait {
  private:
   std::vector<WalkInterval> walking_;
   GaitOptions opt_;
+  std::shared_ptr<const PaceDrift> drift_;  // shared: the tables are immutable
 };
 
 }  // namespace luxloc::sim

@@ -47,4 +47,14 @@ inline Jet atan2(Jet y, Jet x) {
   return {std::atan2(y.v, x.v), N / D, (dN * D - N * dD) / (D * D)};
 }
 
+// A quintic smoothstep S(x) = 6x^5 - 15x^4 + 10x^3 of x = (t - t0) / duration, clamped to
+// [0, 1]: a C2 step from 0 to 1 over [t0, t0 + duration] (S' and S'' vanish at both ends).
+inline Jet smoothstep(double t, double t0, double duration) {
+  const double x = (t - t0) / duration;
+  if (x <= 0.0) return Jet::constant(0.0);
+  if (x >= 1.0) return Jet::constant(1.0);
+  return {x * x * x * (10.0 + x * (-15.0 + 6.0 * x)), 30.0 * x * x * (1.0 - x) * (1.0 - x) / duration,
+          60.0 * x * (1.0 - x) * (1.0 - 2.0 * x) / (duration * duration)};
+}
+
 }  // namespace luxloc::sim

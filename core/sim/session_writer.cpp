@@ -167,6 +167,12 @@ void write_sim_truth(const Simulator& sim, const fs::path& p) {
        << "sway_scale" << w.sway_scale << "walking" << "[";
     for (const WalkInterval& i : w.walking)
       fs << "{:" << "start_s" << i.start_s << "stop_s" << (std::isfinite(i.stop_s) ? i.stop_s : -1.0) << "}";
+    fs << "]" << "pace_waves" << "[";
+    for (const PaceWave& wave : w.pace_waves)
+      fs << "{:" << "amplitude" << wave.amplitude << "period_s" << wave.period_s << "phase_rad" << wave.phase_rad << "}";
+    fs << "]" << "turns" << "[";
+    for (const TurnOnSpot& t : w.turns)
+      fs << "{:" << "start_s" << t.start_s << "duration_s" << t.duration_s << "yaw_deg" << (t.left ? 180 : -180) << "}";
     fs << "]" << "}";
   }
   if (o.world_plan) {

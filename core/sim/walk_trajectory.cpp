@@ -2,19 +2,60 @@
 
 #include <cmath>
 #include <numbers>
+#include <limits>
+#include <stdexcept>
 
 namespace luxloc::sim {
 
 WalkTrajectory::WalkTrajectory(const WalkOptions& options)
-    : opt_(options), path_(options.waypoints, options.corner_sigma_m), gait_(options.walking, options.gait) {}
+    : opt_(options), path_(options.waypoints, options.corner_sigma_m), gait_(options.walking, options.gait) {
+  double prev_end = -std::numeric_limits<double>::infinity(), distance = 0.0, walked = 0.0, sign = 1.0;
+  for (const TurnOnSpot& turn : opt_.turns) {
+    const double end = turn.start_s + turn.duration_s;
+    if (!(turn.duration_s > 0.0) || !(turn.start_s >= prev_end) || !std::isfinite(end))
+      throw std::invalid_argument("WalkTrajectory: turns must be sorted, apart and of positive duration");
+    for (const WalkInterval& w : opt_.walking)
+      if (turn.start_s < w.stop_s && end > w.start_s)
+        throw std::invalid_argument("WalkTrajectory: a turn on the spot must lie within a standing time");
+    // D is a function of G alone; the walk since the previous turn counts with its sign.
+    const double G = gait_.walked_time(turn.start_s).v;
+    distance += sign * (gait_.distance_in_walked_time(G).v - gait_.distance_in_walked_time(walked).v);
+    walked = G;
+    sign = -sign;
+    turn_walked_s_.push_back(G);
+    turn_distance_s_.push_back(distance);
+    prev_end = end;
+  }
+}
 
 // u' = V g (1 + m cos phi) with phi' = 2 pi f g integrates in closed form:
 // u = u0 + V G + V m sin(phi) / (2 pi f).
+// With a drift or turns: u = u0 + V (A_k + (-1)^k (D(G) - D(G_k))) after k turns, where D(G)
+// is the walked distance (Gait::distance_in_walked_time) and A_k the signed distance before
+// turn k. The sign flips while standing (G' = G'' = 0), so u stays C2.
 Jet WalkTrajectory::path_parameter(double t_s) const {
   const GaitOptions& g = opt_.gait;
-  const Jet phi = gait_.step_phase(t_s);
-  return opt_.start_u_m + g.speed_mps * gait_.walked_time(t_s) +
-         (g.speed_mps * g.speed_modulation / (2.0 * std::numbers::pi * g.step_hz)) * sin(phi);
+  if (!gait_.drifts() && opt_.turns.empty()) {
+    const Jet phi = gait_.step_phase(t_s);
+    return opt_.start_u_m + g.speed_mps * gait_.walked_time(t_s) +
+           (g.speed_mps * g.speed_modulation / (2.0 * std::numbers::pi * g.step_hz)) * sin(phi);
+  }
+  const Jet G = gait_.walked_time(t_s);
+  const Jet D = gait_.distance_in_walked_time(G.v);
+  const Jet Dt{D.v, D.d * G.d, D.dd * G.d * G.d + D.d * G.dd};
+  std::size_t k = 0;
+  while (k < opt_.turns.size() && opt_.turns[k].start_s <= t_s) ++k;
+  if (k == 0) return opt_.start_u_m + g.speed_mps * Dt;
+  const double sign = k % 2 == 0 ? 1.0 : -1.0;
+  const double D_k = gait_.distance_in_walked_time(turn_walked_s_[k - 1]).v;
+  return opt_.start_u_m + g.speed_mps * (turn_distance_s_[k - 1] - sign * D_k) + (g.speed_mps * sign) * Dt;
+}
+
+Jet WalkTrajectory::turned_yaw(double t_s) const {
+  Jet yaw = Jet::constant(0.0);
+  for (const TurnOnSpot& turn : opt_.turns)
+    yaw = yaw + (turn.left ? std::numbers::pi : -std::numbers::pi) * smoothstep(t_s, turn.start_s, turn.duration_s);
+  return yaw;
 }
 
 // GaitOptions::heel_impact_mps2: -A w^2 e(tau) with e = exp(-tau^2 / (2 w^2)), tau = t - t_k;
@@ -46,11 +87,13 @@ BodyState WalkTrajectory::state(double t_s) const {
   const Jet env = gait_.envelope(t_s);
   const Jet phi = gait_.step_phase(t_s);
   const Jet half = 0.5 * phi;  // stride phase: sways alternate left / right every step
-  Jet z = opt_.height_m - g.bounce_m * (env * cos(phi));
+  Jet z = gait_.drifts() ? opt_.height_m - g.bounce_m * (gait_.length_factor(t_s) * env * cos(phi))
+                         : opt_.height_m - g.bounce_m * (env * cos(phi));
   if (g.heel_impact_mps2 > 0.0) z = z + heel_impact(t_s);
   const Jet roll = g.roll_sway_rad * (env * sin(half));
   const Jet pitch = g.pitch_sway_rad * (env * sin(phi));
-  const Jet yaw = heading + g.yaw_sway_rad * (env * cos(half));
+  Jet yaw = heading + g.yaw_sway_rad * (env * cos(half));
+  if (!opt_.turns.empty()) yaw = yaw + turned_yaw(t_s);
 
   BodyState s;
   s.t = t_s;

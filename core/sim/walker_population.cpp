@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <numbers>
 #include <random>
 
 #include "core/sim/seeding.hpp"
@@ -47,11 +48,40 @@ WalkerDraw draw_walker(std::uint64_t seed, double duration_s) {
     w.walking.push_back({t, t + walk});
     t += walk + uniform(1.0, 10.0);
   }
+  // Drawn after the walks, so the walker's earlier draws are those of the sessions before the
+  // drift and the turns existed (stop 28).
+  // The pace drifts within the walk: two slow waves of the speed in walked time, a shorter
+  // one (30-90 s: a person hurrying up or dawdling) and a longer one (90-240 s: tiring,
+  // settling in), 0-12 % each, so the speed spans up to +-24 % of the drawn mean. Peaks are
+  // capped at 2 m/s: past that people run.
+  const double period1 = uniform(30.0, 90.0), period2 = uniform(90.0, 240.0);
+  double a1 = uniform(0.0, 0.12), a2 = uniform(0.0, 0.12);
+  const double headroom = 2.0 / w.speed_mps - 1.0;
+  const double scale = a1 + a2 > headroom ? headroom / (a1 + a2) : 1.0;
+  a1 *= scale;
+  a2 *= scale;
+  w.pace_horizon_s = duration_s + 120.0;  // the walked time never exceeds the time (with margin for queries past the end)
+  w.pace_waves = {{a1, period1, uniform(0.0, 2.0 * std::numbers::pi)}, {a2, period2, uniform(0.0, 2.0 * std::numbers::pi)}};
+  // Turns round on the spot: at a third of the stops with >= 2.5 s of standing, 1-2 s long
+  // (a person turning round takes 1-2 s), centred in the standing time, either way round.
+  for (std::size_t i = 0; i + 1 < w.walking.size(); ++i) {
+    const double standing = w.walking[i + 1].start_s - w.walking[i].stop_s;
+    const double p = uniform(0.0, 1.0), duration = uniform(1.0, 2.0), left = uniform(0.0, 1.0);
+    if (standing >= 2.5 && p < 1.0 / 3.0)
+      w.turns.push_back({w.walking[i].stop_s + 0.5 * (standing - duration), duration, left < 0.5});
+  }
+  return w;
+}
+
+WalkerDraw draw_steady_walker(std::uint64_t seed, double duration_s) {
+  WalkerDraw w = draw_walker(seed, duration_s);
+  w.pace_waves.clear();
+  w.turns.clear();
   return w;
 }
 
 WalkerDraw draw_fast_walker(std::uint64_t seed, double duration_s) {
-  WalkerDraw w = draw_walker(seed, duration_s);
+  WalkerDraw w = draw_steady_walker(seed, duration_s);
   // The cadence keeps its place in the drawn range (1.4-2.2 Hz -> 1.9-2.2 Hz): people walk
   // faster mostly by longer steps, and 1.7 m/s at 1.9-2.2 Hz is 0.77-0.89 m a step.
   const double person = w.bounce_m / (kBouncePerStep * w.step_length_m);
@@ -65,10 +95,13 @@ WalkerDraw draw_fast_walker(std::uint64_t seed, double duration_s) {
 WalkOptions apply_walker(WalkOptions base, const WalkerDraw& w) {
   base.corner_sigma_m = w.corner_sigma_m;
   base.walking = w.walking;
+  base.turns = w.turns;
   GaitOptions& g = base.gait;
   g.speed_mps = w.speed_mps;
   g.step_hz = w.step_hz;
   g.speed_modulation = w.speed_modulation;
+  g.pace_waves = w.pace_waves;
+  g.pace_horizon_s = w.pace_horizon_s;
   g.bounce_m = w.bounce_m;
   g.roll_sway_rad *= w.sway_scale;
   g.pitch_sway_rad *= w.sway_scale;

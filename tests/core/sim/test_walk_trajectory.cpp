@@ -2,7 +2,9 @@
 // sway, cadence, stops) that stays in the room and passes under every LED.
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <limits>
 #include <numbers>
+#include <stdexcept>
 
 #include "core/sim/scenario.hpp"
 #include "core/sim/walk_trajectory.hpp"
@@ -115,4 +117,55 @@ TEST_CASE("Heel strikes: cadence 1.8 Hz, at the lowest point of the bounce", "[s
   }
   // None while standing.
   for (double t : steps) CHECK(!(t > 31.0 && t < 33.0));
+}
+
+TEST_CASE("A drifting pace and a turn round on the spot: exact derivatives, the walk goes back", "[sim][pace]") {
+  const Scenario sc = make_scenario("walk");
+  REQUIRE(sc.walk);
+  WalkOptions o = *sc.walk;
+  o.walking = {{2.0, 30.0}, {35.0, std::numeric_limits<double>::infinity()}};
+  o.turns = {{31.5, 1.5, true}};
+  o.gait.pace_waves = {{0.12, 30.0, 0.0}, {0.08, 100.0, 1.0}};
+  o.gait.pace_horizon_s = 100.0;
+  const WalkTrajectory tr(o);
+  REQUIRE(tr.gait().drifts());
+  const double h = 1e-4;
+  for (double t = 0.5; t < 90.0; t += 0.613) {
+    const BodyState s = tr.state(t), a = tr.state(t - h), b = tr.state(t + h);
+    INFO("t " << t);
+    CHECK((s.v_BinW - (b.p_BinW - a.p_BinW) / (2 * h)).norm() < 1e-6);
+    CHECK((s.a_BinW - (b.v_BinW - a.v_BinW) / (2 * h)).norm() < 1e-4);
+    CHECK((s.omega_inB - (log_so3(a.R_BtoW.transpose() * b.R_BtoW) / (2 * h))).norm() < 1e-5);
+  }
+  // Standing through the turn: the position holds, the yaw turns by 180 deg (left: + pi).
+  const BodyState before = tr.state(31.0), after = tr.state(33.5);
+  CHECK((after.p_BinW - before.p_BinW).norm() < 1e-9);
+  CHECK(std::remainder(after.yaw - before.yaw, 2 * std::numbers::pi) == Approx(std::numbers::pi).margin(0.05));
+  CHECK(tr.state(32.25).omega_inB.z() > 1.5);  // turning at ~2 rad/s mid-turn
+  // Walking again: back the way it came, facing where it goes.
+  const BodyState in = tr.state(29.5), out = tr.state(35.5);  // near the turn, on either side
+  CHECK(in.v_BinW.head<2>().normalized().dot(out.v_BinW.head<2>().normalized()) < -0.9);
+  for (double t : {10.0, 25.0, 40.0, 60.0}) {
+    const BodyState s = tr.state(t);
+    const double dir = std::atan2(s.v_BinW.y(), s.v_BinW.x());
+    CHECK(std::abs(std::remainder(s.yaw - dir, 2 * std::numbers::pi)) < 2.0 * std::numbers::pi / 180);
+  }
+  // The steps come at the drifting cadence: 1.8 Hz x sqrt(q) at each strike.
+  const std::vector<double> strikes = tr.step_times(90.0);
+  int checked = 0;
+  for (std::size_t i = 1; i < strikes.size(); ++i) {
+    if (tr.gait().envelope(strikes[i - 1]).v < 1.0 || tr.gait().envelope(strikes[i]).v < 1.0) continue;
+    const double G = tr.gait().walked_time(0.5 * (strikes[i - 1] + strikes[i])).v;
+    const double q = 1.0 + 0.12 * std::sin(2 * std::numbers::pi * G / 30.0) + 0.08 * std::sin(2 * std::numbers::pi * G / 100.0 + 1.0);
+    CHECK(strikes[i] - strikes[i - 1] == Approx(1.0 / (1.8 * std::sqrt(q))).epsilon(1e-3));
+    ++checked;
+  }
+  CHECK(checked > 100);
+  // A turn while walking is refused.
+  CHECK_THROWS_AS(WalkTrajectory([&] {
+                    WalkOptions bad = o;
+                    bad.turns = {{29.5, 1.5, true}};  // still walking
+                    return bad;
+                  }()),
+                  std::invalid_argument);
 }

@@ -104,3 +104,46 @@ TEST_CASE("heel impacts: ~12 g at each strike, exact derivatives, the walk uncha
   }
   CHECK(checked > 40);
 }
+
+TEST_CASE("draw_walker: the pace drifts within the walk, turns round on the spot at some stops", "[sim][walker][pace]") {
+  int turns = 0, stops_long = 0, sessions_with_turns = 0;
+  for (std::uint64_t seed = 1; seed <= 200; ++seed) {
+    const WalkerDraw w = draw_walker(seed, 300.0), steady = draw_steady_walker(seed, 300.0);
+    INFO("seed " << seed);
+    REQUIRE(w.pace_waves.size() == 2);
+    double amplitude = 0.0;
+    for (const PaceWave& p : w.pace_waves) {
+      CHECK(p.amplitude >= 0.0);
+      CHECK(p.amplitude <= 0.12);
+      CHECK(p.period_s >= 30.0);
+      CHECK(p.period_s <= 240.0);
+      amplitude += p.amplitude;
+    }
+    CHECK(w.speed_mps * (1.0 + amplitude) <= 2.0 + 1e-9);  // peaks below a run
+    // The steady walker is the same draw without the drift and the turns.
+    CHECK(steady.pace_waves.empty());
+    CHECK(steady.turns.empty());
+    CHECK(steady.step_length_m == w.step_length_m);
+    CHECK(steady.walking.size() == w.walking.size());
+    for (std::size_t i = 0; i + 1 < w.walking.size(); ++i) stops_long += w.walking[i + 1].start_s - w.walking[i].stop_s >= 2.5;
+    for (const TurnOnSpot& t : w.turns) {
+      CHECK(t.duration_s >= 1.0);
+      CHECK(t.duration_s <= 2.0);
+      bool standing = false;  // within the standing time between two walks, >= 2.5 s long
+      for (std::size_t i = 0; i + 1 < w.walking.size(); ++i)
+        standing |= t.start_s >= w.walking[i].stop_s && t.start_s + t.duration_s <= w.walking[i + 1].start_s &&
+                    w.walking[i + 1].start_s - w.walking[i].stop_s >= 2.5;
+      CHECK(standing);
+    }
+    turns += static_cast<int>(w.turns.size());
+    sessions_with_turns += !w.turns.empty();
+    // The drawn walk is a valid trajectory (turns within standing times, drift within range).
+    const Scenario s = make_scenario("walk");
+    if (seed <= 5) CHECK_NOTHROW(WalkTrajectory(apply_walker(*s.walk, w)).state(299.0));
+  }
+  // A third of the long stops turn round.
+  CHECK(turns > stops_long / 5);
+  CHECK(turns < stops_long / 2);
+  CHECK(sessions_with_turns > 100);
+  CHECK(draw_fast_walker(3, 90.0).pace_waves.empty());
+}
