@@ -710,6 +710,9 @@ void print_report(const RunOutcome& r, std::ostream& log) {
     } else if (f.motion == "pdr") {
       log << ", " << f.steps << " steps";
     }
+    if (f.turning_in_place_s > 0.0)
+      log << ", held in place while turning on the spot " << std::setprecision(1) << f.turning_in_place_s << " s"
+          << std::setprecision(2);
     if (f.impact_samples) log << ", " << f.impact_samples << " samples of heel-strike impacts replaced";
     if (std::isfinite(f.gait_scale))
       log << ", gait calibrated to step-length scale " << std::setprecision(3) << f.gait_scale

@@ -190,6 +190,7 @@ void FusionEngine::finish(std::vector<PoseEstimate>& out) {
   stats_.steps_used = motion_.steps_used();
   stats_.impact_samples = motion_.impact_samples();
   stats_.regime_s = motion_.regime_seconds();
+  stats_.turning_in_place_s = motion_.turning_in_place_s();
   uwb_->summarize_online();
   if (pf_) {
     if (const ParticleFilter::GaitEstimate g = pf_->gait_estimate(); g.valid) {

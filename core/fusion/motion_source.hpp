@@ -5,8 +5,9 @@
 //              heading (SEEDS.md A, S1), as a gait speed along the current heading
 //              (GaitSpeed) with the per-step length and heading noise. Between walks:
 //              zero velocity while the IMU is still, strapdown while it moves without
-//              steps (the first step of a walk is only detected once walked; a trolley,
-//              a robot or a device in the hand of someone turning on the spot has none);
+//              steps (the first step of a walk is only detected once walked; a trolley or
+//              a robot has none), zero velocity again for a walker turning on the spot
+//              (rotating, its specific force steady);
 //   strapdown  the specific force rotated into the world minus gravity (SEEDS.md B.2, C.2);
 //   cv         nothing from the IMU: constant velocity.
 #include <Eigen/Core>
@@ -39,6 +40,16 @@ struct MotionSourceOptions {
   // After a walk ends (no bounce), zero velocity for this long even if the IMU is not
   // still yet: the walker is coming to a stop, the strapdown velocity would be stale.
   double settle_s = 1.0;
+  // A walker turning round on the spot has no steps and a turning gyro, so it failed the
+  // still test and was integrated by strapdown: on the drawn walkers' turns on the spot in a
+  // 15 s blackout (stop 28, tuning seeds 19, 25, 40, consumer IMU) a standing walker moved
+  // 0.05-0.19 m in a 1-2 s turn and its sigma grew from 0.2 to 1 m. When the specific force
+  // stays steady (StillDetector's accelerometer tests; its gyro tests left out) nothing
+  // translates, and the position is held. Only for a walker (a step used, the gait gate
+  // passed): a robot or a trolley on a smooth arc has a steady specific force as well.
+  // A device held away from the turning axis sees the centripetal force and fails the
+  // accelerometer test: strapdown, as before.
+  bool hold_turning_in_place = true;
   // Standing still after a walk, the servo pays out what the last steps still owe (see
   // input_for). How much of it the walker really walked is a guess: on the default walker
   // dropping it lost ~0.2 m at every stop; on a drawn walker (`sim --walker random
@@ -81,6 +92,8 @@ class MotionSource {
   // Seconds predicted in each regime (index: MotionRegime), the mode over time in short.
   const std::array<double, 4>& regime_seconds() const { return regime_s_; }
   bool gait_confirmed() const { return !options_.gait_gate || gate_.confirmed(); }
+  // Seconds the position was held while the IMU turned (hold_turning_in_place).
+  double turning_in_place_s() const { return turning_in_place_s_; }
 
  private:
   MotionInput input_for(TimeNs t0, TimeNs t1);
@@ -89,9 +102,11 @@ class MotionSource {
   PedestrianDeadReckoning pdr_;
   GaitSpeed gait_;
   StillDetector still_;
+  StillDetector planted_;  // still_'s accelerometer tests alone: not translating
   GaitGate gate_;
   std::vector<Step> held_;  // steps before the gate's verdict (replayed when it confirms)
   std::array<double, 4> regime_s_{};
+  double turning_in_place_s_ = 0.0;
   std::uint64_t steps_used_ = 0;
   MotionRegime regime_ = MotionRegime::cv;
   TimeNs t_last_stepping_ = std::numeric_limits<TimeNs>::min() / 2;

@@ -2,9 +2,14 @@
 #include <catch2/catch.hpp>
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <memory>
+#include <tuple>
 
 #include "core/fusion/motion_source.hpp"
 #include "core/imu/sim_walk.hpp"
+#include "core/sim/imu_grade.hpp"
+#include "core/sim/walk_trajectory.hpp"
 
 using namespace luxloc;
 
@@ -126,4 +131,47 @@ TEST_CASE("pdr motion: what the last steps owe at a stop is paid with along-trac
     if (stopped && p.u.has_gait) var_quiet += variance(p.u);
   });
   CHECK(var_quiet < 0.5 * var_still);  // the step's own 5 % only
+}
+
+TEST_CASE("pdr motion: a walker turning round on the spot is held in place, not integrated", "[motion][pace]") {
+  // The walk scenario's walker with a 4 s stop at 40 s, turning round (180 deg in 1.5 s) in
+  // it, and a turn at the very start, before any step; a consumer IMU. Strapdown moved such
+  // a standing walker 0.05-0.19 m per turn (MotionSourceOptions::hold_turning_in_place).
+  sim::Scenario sc = sim::make_scenario("walk");
+  sim::WalkOptions w = *sc.walk;
+  w.walking = {{2.0, 40.0}, {44.0, std::numeric_limits<double>::infinity()}};
+  w.turns = {{0.2, 1.5, true}, {41.2, 1.5, false}};
+  sc.trajectory = std::make_shared<sim::WalkTrajectory>(w);
+  sim::SimOptions o;
+  o.seed = 3;
+  o.duration_s = 50.0;
+  o.imu = sim::imu_grade("consumer");
+  const sim::Simulator simulator(sc, o);
+  const std::vector<ImuSample> imu = simulator.imu_samples();
+  const auto run = [&](bool hold) {
+    MotionSourceOptions mo;
+    mo.hold_turning_in_place = hold;
+    MotionSource ms(mo);
+    double strapdown_in_turn = 0.0, strapdown_at_start = 0.0;
+    for (std::size_t i = 0; i < imu.size(); ++i) {
+      const double t = ns_to_seconds(imu[i].t);
+      ms.update(imu[i], simulator.truth(t).R_BtoW);
+      if (i == 0) continue;
+      const MotionInput u = ms.input(imu[i - 1].t, imu[i].t);
+      if (!u.has_acc) continue;
+      if (t > 41.0 && t < 43.0) strapdown_in_turn += u.dt;
+      if (t > 0.2 && t < 1.7) strapdown_at_start += u.dt;
+    }
+    return std::make_tuple(strapdown_in_turn, strapdown_at_start, ms.turning_in_place_s());
+  };
+  const auto [held_turn, held_start, held_s] = run(true);
+  const auto [loose_turn, loose_start, loose_s] = run(false);
+  INFO("held: strapdown " << held_turn << " s in the turn, " << held_start << " s at the start, held " << held_s
+                          << " s; without: " << loose_turn << " s in the turn");
+  CHECK(loose_turn > 1.0);  // the case is real: without the hold the turn is strapdown
+  CHECK(loose_s == 0.0);
+  CHECK(held_turn == 0.0);
+  CHECK(held_s > 1.0);
+  CHECK(held_s < 3.0);
+  CHECK(held_start > 0.5);  // before any step (a robot, a trolley): strapdown as before
 }
