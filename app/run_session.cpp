@@ -248,6 +248,9 @@ void add_run_options(CLI::App* sub, RunConfig& cfg) {
   sub->add_flag("--no-impact-filter", cfg.no_impact_filter,
                 "pdr: keep heel-strike impacts in the vertical acceleration the steps are found in "
                 "(core/imu/impact_filter.hpp; for comparisons)");
+  sub->add_flag("--no-frame-derotation", cfg.no_frame_derotation,
+                "read every frame with the attitude of the IMU sample after it, all rows alike (no turning back "
+                "to the exposure; docs/MOTION.md \"Frames read at their exposure\"; for comparisons)");
   sub->add_flag("--no-heading-decouple", cfg.no_heading_decouple,
                 "do not shuffle the particles' yaw offsets before the first fix after an outage (docs/MOTION.md "
                 "\"Gait fitted to the track\"; for comparisons)");
@@ -538,6 +541,10 @@ RunOutcome run_session(const RunConfig& cfg, std::ostream& log) {
   if (cfg.no_gait_regression) c.fusion.gait_regression.enabled = false;
   if (cfg.no_impact_filter) c.fusion.motion.pdr.impacts.max_jump_mps2 = 0.0;
   if (cfg.no_heading_decouple) c.fusion.decouple_heading_after_outage = false;
+  if (cfg.no_frame_derotation) {
+    c.fusion.max_attitude_backdate_s = 0.0;
+    c.fusion.derotate_rows = false;
+  }
   if (cfg.platform == "drone") c.fusion.vlc_frame_correlation = 2.0;  // FusionOptions::vlc_frame_correlation
   c.fusion.camera_height = cfg.camera_height == "on" || (cfg.camera_height == "auto" && cfg.platform == "drone");
   if (!cfg.imu_calib.empty()) c.fusion.imu_calibration = load_imu_calibration(cfg.imu_calib);

@@ -248,9 +248,18 @@ double FusionEngine::heading_drift_s(TimeNs t) const {
 
 bool FusionEngine::heading_bounded() const { return ahrs_.since_mag_correction_s() < 1.0; }
 
-Eigen::Matrix3d FusionEngine::fused_R_BtoW() {
+Eigen::Matrix3d FusionEngine::fused_R_BtoW(TimeNs t) {
   const HeadingState h = heading_state();
-  return Eigen::AngleAxisd(h.offset_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix() * ahrs_.R_BtoW();
+  return Eigen::AngleAxisd(h.offset_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix() * ahrs_R_BtoW_at(t);
+}
+
+// R(t_imu - dt) = R(t_imu) Exp(-omega_B dt) for a body rate omega_B held over the gap.
+Eigen::Matrix3d FusionEngine::ahrs_R_BtoW_at(TimeNs t) const {
+  const double back = ns_to_seconds(t_imu_ - t);
+  const Eigen::Vector3d w = ahrs_.gyro_corrected();
+  if (!have_imu_ || !(back > 0.0) || back > options_.max_attitude_backdate_s || !w.allFinite() || w.norm() == 0.0)
+    return ahrs_.R_BtoW();
+  return ahrs_.R_BtoW() * Eigen::AngleAxisd(-w.norm() * back, w.normalized()).toRotationMatrix();
 }
 
 bool FusionEngine::absolute_wanted(TimeNs t) {
@@ -394,17 +403,23 @@ void FusionEngine::on_frame(const FrameSample& s, std::vector<PoseEstimate>&) {
   pending_frames_.push_back(std::move(f));
 }
 
-void FusionEngine::apply_frame(const DecodedFrame& f) {
+void FusionEngine::apply_frame(const DecodedFrame& decoded) {
   if (!ahrs_.initialized()) {
     ++stats_.frames_without_attitude;
     return;
   }
-  const Eigen::Matrix3d R_BtoW = ahrs_.R_BtoW();
+  // The rows as a global shutter at t_obs saw them, by the body rate of the IMU sample just
+  // after (FusionOptions::derotate_rows; not for a frame applied late after a dropout).
+  const double age_s = ns_to_seconds(t_imu_ - decoded.t_obs);
+  const DecodedFrame f = options_.derotate_rows && age_s >= 0.0 && age_s <= options_.max_attitude_backdate_s
+                             ? vlc_->derotated(decoded, ahrs_.gyro_corrected())
+                             : decoded;
+  const Eigen::Matrix3d R_BtoW = ahrs_R_BtoW_at(f.t_obs);
   camera_height_from(f, R_BtoW);  // issue 16 part 3: the frame is weighed at the height it measured
   // Frequency reuse without a start: no LED of a frequency of its own in view, so no
   // loose fix can start the filter; the particles start everywhere (global localisation).
   if (pf_ && !pf_->initialized() && options_.tight_coupling && vlc_->reuses_frequencies()) {
-    if (!vlc_->fix(f, fused_R_BtoW())) {
+    if (!vlc_->fix(f, fused_R_BtoW(f.t_obs))) {
       start_global(f.t_obs, vlc_->likelihood(f, R_BtoW));
       ++stats_.global_starts;
     }
@@ -528,11 +543,11 @@ void FusionEngine::apply_frame(const DecodedFrame& f) {
     // Lost: fall through to a loose fix, which re-initialises the filter; in a reuse map
     // with no LED of its own frequency in view, the restart is global (kidnapping).
     consecutive_gated_ = 0;
-    if (vlc_->reuses_frequencies() && !vlc_->fix(f, fused_R_BtoW())) {
+    if (vlc_->reuses_frequencies() && !vlc_->fix(f, fused_R_BtoW(f.t_obs))) {
       restart_global(f.t_obs, lik);
       return;
     }
-    if (std::optional<PositionMeasurement> m = vlc_->fix(f, fused_R_BtoW())) {
+    if (std::optional<PositionMeasurement> m = vlc_->fix(f, fused_R_BtoW(f.t_obs))) {
       pf_->initialize(m->z, m->R * 4.0);
       ++stats_.reinitializations;
       t_last_fix_ = f.t_obs;
@@ -551,7 +566,7 @@ void FusionEngine::apply_frame(const DecodedFrame& f) {
       }
     }
   }
-  std::optional<PositionMeasurement> m = vlc_->fix(f, fused_R_BtoW(), pose_hint(0.0));
+  std::optional<PositionMeasurement> m = vlc_->fix(f, fused_R_BtoW(f.t_obs), pose_hint(0.0));
   if (!m) return;
   ++stats_.vlc_fixes;
   apply_position(*m);

@@ -102,8 +102,11 @@ class FusionEngine final : public FusionStage {
   double heading_drift_s(TimeNs t) const;
   // The AHRS's magnetometer corrects its yaw (within the last second): its error is bounded.
   bool heading_bounded() const;
-  // R_BtoW with the fused yaw: Rz(offset) R_ahrs.
-  Eigen::Matrix3d fused_R_BtoW();
+  // R_BtoW with the fused yaw: Rz(offset) R_ahrs, the AHRS's at t (ahrs_R_BtoW_at).
+  Eigen::Matrix3d fused_R_BtoW(TimeNs t);
+  // The AHRS's attitude turned back from the last IMU sample to t by the last body rate
+  // (FusionOptions::max_attitude_backdate_s); the attitude now when t is not just before it.
+  Eigen::Matrix3d ahrs_R_BtoW_at(TimeNs t) const;
   // False for an absolute sample (frame, fix) that options_.absolute_for_s excludes.
   bool absolute_wanted(TimeNs t);
   void emit(TimeNs t, std::vector<PoseEstimate>& out, bool force);

@@ -131,6 +131,20 @@ struct FusionOptions {
   // A frame whose observation is older than this when the IMU has moved past is applied
   // late (and counted) rather than waiting for an IMU sample after it.
   double max_frame_hold_s = 0.2;
+  // A frame is applied after the IMU sample that follows its exposure (t_obs), up to one IMU
+  // period later (10 ms at 100 Hz), and was read with that sample's attitude. A walker turning
+  // round on the spot at up to 300 deg/s turned 3 deg in that time: the camera's direct yaw
+  // (two LEDs) and the particles' yaw offsets took the error in and moved it into the AHRS
+  // (stop 28, `sim --walker random` tuning seed 1: 1.9 and 3.1 deg of yaw error after its two
+  // turns, 0.5 and 1.3 deg with the AHRS yaw alone). The attitude is turned back to t_obs by
+  // the last body rate when the gap is at most this long (longer: a frame applied late after
+  // an IMU dropout, whose rate says nothing of the gap); 0 = never. 0.05 s: five periods of a
+  // 100 Hz IMU, two of a 50 Hz one.
+  double max_attitude_backdate_s = 0.05;
+  // ...and within the frame each LED's row was read at its own time (rolling shutter: a
+  // 480-row frame of 30 us rows spans 14 ms, 4 deg of such a turn): each LED's centre is
+  // turned to where it would lie at t_obs by the same body rate (VlcFrontend::derotated).
+  bool derotate_rows = true;
 };
 
 }  // namespace luxloc

@@ -62,6 +62,26 @@ DecodedFrame VlcFrontend::decode(const FrameSample& frame) const {
   return f;
 }
 
+DecodedFrame VlcFrontend::derotated(const DecodedFrame& frame, const Eigen::Vector3d& omega_inB) const {
+  if (!frame.impl || frame.leds == 0 || !omega_inB.allFinite() || omega_inB.norm() == 0.0) return frame;
+  const CameraModel& c = state_->camera;
+  auto impl = std::make_shared<DecodedFrame::Impl>(*frame.impl);
+  const double w = omega_inB.norm();
+  const Eigen::Vector3d axis = omega_inB / w;
+  for (LedObservation& o : impl->accepted) {
+    const double t_i = c.row_offset_s(o.uv.y()) + 0.5 * c.exposure_s;  // after t_frame, as decode()'s t_obs
+    const double dt = t_i - ns_to_seconds(frame.t_obs - frame.t_frame);
+    // World ray R(t_i) r_B = R(t_obs) Exp(omega dt) r_B: at t_obs the body sees Exp(omega dt) r_B.
+    const Eigen::Vector3d r_B = c.R_CtoB * c.bearing(o.uv);
+    const Eigen::Vector3d r_C = c.R_CtoB.transpose() * (Eigen::AngleAxisd(w * dt, axis) * r_B);
+    Eigen::Vector2d uv;
+    if (c.project(r_C, uv)) o.uv = uv;
+  }
+  DecodedFrame out = frame;
+  out.impl = std::move(impl);
+  return out;
+}
+
 ReprojectionLikelihood VlcFrontend::likelihood(const DecodedFrame& frame, const Eigen::Matrix3d& R_BtoW) const {
   const State& s = *state_;
   // Pixel noise plus what the attitude uncertainty does to a bearing: f * sigma_att.

@@ -45,6 +45,11 @@ class VlcFrontend {
   VlcFrontend(const CameraModel& camera, const LedMap& map, const FusionOptions& options, double device_height_m);
   ~VlcFrontend();
   DecodedFrame decode(const FrameSample& frame) const;
+  // The frame as a global shutter at t_obs would have seen it: each LED's row was exposed at
+  // its own time t_i (rolling shutter), when the body was turned by Exp(omega_inB (t_i -
+  // t_obs)) against its attitude at t_obs; its centre is moved to where its bearing lies at
+  // t_obs. omega_inB: the body rate (rad/s) over the frame's readout.
+  DecodedFrame derotated(const DecodedFrame& frame, const Eigen::Vector3d& omega_inB) const;
   // Position of the body from the decoded LEDs, given the attitude; nullopt when the
   // frame cannot fix a position (no LED, degenerate geometry).
   // In a reuse map the blobs of reused classes need `hint` (without it only the LEDs of
