@@ -87,8 +87,8 @@ double PaceDrift::distance_rate(double G) const {
 }
 
 Jet PaceDrift::distance(double G) const {
+  const double N = steps(G);  // checks the horizon (before G indexes the table)
   const std::size_t k = static_cast<std::size_t>(G / kPanel);
-  const double N = steps(G);  // checks the horizon
   const double D = distance_at_[k] + gauss8([this](double g) { return distance_rate(g); }, k * kPanel, G);
   const Jet q = speed_factor(G);
   const double phi = kTwoPi * N, dphi = kTwoPi * f0_ * cadence_factor(G).v;
