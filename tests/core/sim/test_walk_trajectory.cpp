@@ -18,19 +18,25 @@ Eigen::Vector3d log_so3(const Eigen::Matrix3d& R) {
   return aa.angle() * aa.axis();
 }
 
+// Velocity, acceleration and body rate at t against central differences of the poses
+// (body rate: R(t+h) = R(t) Exp(omega h) to first order); returns the state at t.
+BodyState check_derivatives(const Trajectory& tr, double t) {
+  const double h = 1e-4;
+  const BodyState s = tr.state(t), a = tr.state(t - h), b = tr.state(t + h);
+  INFO("t " << t);
+  CHECK((s.v_BinW - (b.p_BinW - a.p_BinW) / (2 * h)).norm() < 1e-6);
+  CHECK((s.a_BinW - (b.v_BinW - a.v_BinW) / (2 * h)).norm() < 1e-4);
+  CHECK((s.omega_inB - (log_so3(a.R_BtoW.transpose() * b.R_BtoW) / (2 * h))).norm() < 1e-5);
+  return s;
+}
+
 }  // namespace
 
 TEST_CASE("Walk trajectory derivatives are consistent with its poses", "[sim]") {
   const Scenario sc = make_scenario("walk");
   const Trajectory& tr = *sc.trajectory;
-  const double h = 1e-4;
   for (double t = 0.5; t < 90.0; t += 0.731) {
-    const BodyState s = tr.state(t), a = tr.state(t - h), b = tr.state(t + h);
-    INFO("t " << t);
-    CHECK((s.v_BinW - (b.p_BinW - a.p_BinW) / (2 * h)).norm() < 1e-6);
-    CHECK((s.a_BinW - (b.v_BinW - a.v_BinW) / (2 * h)).norm() < 1e-4);
-    // Body rate: R(t+h) = R(t) Exp(omega h) to first order.
-    CHECK((s.omega_inB - (log_so3(a.R_BtoW.transpose() * b.R_BtoW) / (2 * h))).norm() < 1e-5);
+    const BodyState s = check_derivatives(tr, t);
     // Euler angles reproduce the rotation.
     const Eigen::Matrix3d R = (Eigen::AngleAxisd(s.yaw, Eigen::Vector3d::UnitZ()) *
                                Eigen::AngleAxisd(s.pitch, Eigen::Vector3d::UnitY()) *
@@ -129,14 +135,7 @@ TEST_CASE("A drifting pace and a turn round on the spot: exact derivatives, the 
   o.gait.pace_horizon_s = 100.0;
   const WalkTrajectory tr(o);
   REQUIRE(tr.gait().drifts());
-  const double h = 1e-4;
-  for (double t = 0.5; t < 90.0; t += 0.613) {
-    const BodyState s = tr.state(t), a = tr.state(t - h), b = tr.state(t + h);
-    INFO("t " << t);
-    CHECK((s.v_BinW - (b.p_BinW - a.p_BinW) / (2 * h)).norm() < 1e-6);
-    CHECK((s.a_BinW - (b.v_BinW - a.v_BinW) / (2 * h)).norm() < 1e-4);
-    CHECK((s.omega_inB - (log_so3(a.R_BtoW.transpose() * b.R_BtoW) / (2 * h))).norm() < 1e-5);
-  }
+  for (double t = 0.5; t < 90.0; t += 0.613) check_derivatives(tr, t);
   // Standing through the turn: the position holds, the yaw turns by 180 deg (left: + pi).
   const BodyState before = tr.state(31.0), after = tr.state(33.5);
   CHECK((after.p_BinW - before.p_BinW).norm() < 1e-9);
