@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 
 namespace luxloc {
 
@@ -21,12 +20,6 @@ MotionSource::MotionSource(const MotionSourceOptions& options)
       pdr_(options.pdr),
       gait_(options.gait, options.pdr.detector.min_interval_s),
       still_(options.still),
-      planted_([&options] {
-        StillOptions o = options.still;
-        o.gyro_std_max_rps = o.gyro_mean_max_rps = std::numeric_limits<double>::infinity();
-        o.check_mag_turn = false;
-        return o;
-      }()),
       gate_(options.gate) {}
 
 void MotionSource::update(const ImuSample& s, const Eigen::Matrix3d& R_BtoW) {
@@ -37,7 +30,6 @@ void MotionSource::update(const ImuSample& s, const Eigen::Matrix3d& R_BtoW) {
   valid_ = true;
   if (options_.model != MotionModel::pdr) return;
   still_.update(s);
-  if (options_.hold_turning_in_place) planted_.update(s);
   pdr_.update(s, R_BtoW);
   // Heading alpha from the attitude now (the step's own mean heading comes a step late).
   heading_rad_ = std::atan2(R_BtoW(1, 0), R_BtoW(0, 0)) + options_.pdr.heading_offset_rad;
@@ -89,7 +81,7 @@ MotionInput MotionSource::input_for(TimeNs t0, TimeNs t1) {
       if (stepping) t_last_stepping_ = t1;
       // Strapdown between steps: bouncing before the first step of a walk is detected, or
       // moving without a bounce (not just after a walk: the walker is stopping then).
-      const bool turning_in_place = options_.hold_turning_in_place && !still_.still() && planted_.still() &&
+      const bool turning_in_place = options_.hold_turning_in_place && !still_.still() && still_.force_steady() &&
                                     steps_used_ > 0 && gait_confirmed();
       const bool moving = gait_.walking() || (!still_.still() && !turning_in_place &&
                                               ns_to_seconds(t1 - t_last_stepping_) > options_.settle_s);

@@ -102,7 +102,6 @@ class MotionSource {
   PedestrianDeadReckoning pdr_;
   GaitSpeed gait_;
   StillDetector still_;
-  StillDetector planted_;  // still_'s accelerometer tests alone: not translating
   GaitGate gate_;
   std::vector<Step> held_;  // steps before the gate's verdict (replayed when it confirms)
   std::array<double, 4> regime_s_{};

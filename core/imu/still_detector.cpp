@@ -13,6 +13,7 @@ void StillDetector::reset() {
   window_.clear();
   recompute_sums();
   still_ = false;
+  force_steady_ = false;
   still_since_ = t_last_ = 0;
   run_sum_g_.setZero();
   run_n_ = 0;
@@ -102,6 +103,7 @@ bool StillDetector::update(const ImuSample& s) {
     if (++pops_since_recompute_ > 4096) recompute_sums();
   }
   full = full || (s.t - window_.front().t >= window_ns);
+  force_steady_ = full && force_quiet();
   const bool quiet = full && evaluate();  // gyro and accelerometer at rest
   const bool now_still = quiet && !turning_;
   // The run was a slow turn only when it ends on the field's verdict alone. A run that ends
@@ -136,15 +138,24 @@ bool StillDetector::update(const ImuSample& s) {
   return still_;
 }
 
-bool StillDetector::evaluate() const {
+bool StillDetector::evaluate() const { return gyro_quiet() && force_quiet(); }
+
+bool StillDetector::gyro_quiet() const {
   const double n = static_cast<double>(window_.size());
   if (n < 3) return false;
-  const Eigen::Vector3d mg = sum_g_ / n, ma = sum_a_ / n;
+  const Eigen::Vector3d mg = sum_g_ / n;
   const Eigen::Vector3d var_g = (sum_gg_ / n - mg.cwiseAbs2()).cwiseMax(0.0);
+  const double sg = options_.gyro_std_max_rps;
+  return var_g.maxCoeff() <= sg * sg && mg.norm() <= options_.gyro_mean_max_rps;
+}
+
+bool StillDetector::force_quiet() const {
+  const double n = static_cast<double>(window_.size());
+  if (n < 3) return false;
+  const Eigen::Vector3d ma = sum_a_ / n;
   const Eigen::Vector3d var_a = (sum_aa_ / n - ma.cwiseAbs2()).cwiseMax(0.0);
-  const double sg = options_.gyro_std_max_rps, sa = options_.acc_std_max_mps2;
-  return var_g.maxCoeff() <= sg * sg && var_a.maxCoeff() <= sa * sa && mg.norm() <= options_.gyro_mean_max_rps &&
-         std::abs(ma.norm() - options_.gravity) <= options_.acc_norm_tolerance_mps2;
+  const double sa = options_.acc_std_max_mps2;
+  return var_a.maxCoeff() <= sa * sa && std::abs(ma.norm() - options_.gravity) <= options_.acc_norm_tolerance_mps2;
 }
 
 std::optional<double> StillDetector::run_field_turn_rate_rps() const {

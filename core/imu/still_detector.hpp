@@ -59,6 +59,9 @@ class StillDetector {
   void reset();
 
   bool still() const { return still_; }
+  // The accelerometer's half of the test alone (the gyro's left out): the specific force is
+  // steady over a full window, so the device does not translate, though it may turn.
+  bool force_steady() const { return force_steady_; }
   // The last still run ended because the field turned in the body (a slow turn, not rest):
   // its gyro mean was the turn rate, not the bias.
   bool last_run_was_turn() const { return last_run_was_turn_; }
@@ -90,7 +93,9 @@ class StillDetector {
     Eigen::Vector3d gyro, acc;
   };
   void recompute_sums();
-  bool evaluate() const;
+  bool evaluate() const;     // gyro_quiet() && force_quiet()
+  bool gyro_quiet() const;   // the rate's spread and mean small
+  bool force_quiet() const;  // the specific force's spread small, its mean ~g
 
   StillOptions options_;
   std::deque<Entry> window_;
@@ -100,6 +105,7 @@ class StillDetector {
   Eigen::Vector3d run_sum_g_ = Eigen::Vector3d::Zero();
   std::size_t run_n_ = 0;
   bool still_ = false;
+  bool force_steady_ = false;
   TimeNs still_since_ = 0, t_last_ = 0;
   // The field's direction in 0.2 s means (time of the mean, unit vector), newest last.
   struct MagBucket {

@@ -9,12 +9,9 @@
 namespace luxloc::sim {
 namespace {
 
-// Quintic smoothstep S(x) = 6x^5 - 15x^4 + 10x^3: S(0) = 0, S(1) = 1, S' and S'' vanish at
-// both ends, so the envelope (and with it the speed and acceleration) is C2.
-double S(double x) { return x * x * x * (10.0 + x * (-15.0 + 6.0 * x)); }
-double dS(double x) { return 30.0 * x * x * (1.0 - x) * (1.0 - x); }
-double ddS(double x) { return 60.0 * x * (1.0 - x) * (1.0 - 2.0 * x); }
-double intS(double x) { return x * x * x * x * (2.5 + x * (-3.0 + x)); }  // int_0^x S
+// The ramps are the quintic smoothstep S (jet.hpp: S' and S'' vanish at both ends, so the
+// envelope, and with it the speed and acceleration, is C2); their integral int_0^x S:
+double intS(double x) { return x * x * x * x * (2.5 + x * (-3.0 + x)); }
 
 }  // namespace
 
@@ -42,13 +39,9 @@ Jet Gait::envelope(double t) const {
   const double T = opt_.ramp_s;
   for (const WalkInterval& w : walking_) {
     if (t <= w.start_s || t >= w.stop_s) continue;
-    if (t < w.start_s + T) {
-      const double x = (t - w.start_s) / T;
-      return {S(x), dS(x) / T, ddS(x) / (T * T)};
-    }
+    if (t < w.start_s + T) return smoothstep(t, w.start_s, T);
     if (t <= w.stop_s - T) return Jet::constant(1.0);
-    const double y = (t - (w.stop_s - T)) / T;
-    return {1.0 - S(y), -dS(y) / T, -ddS(y) / (T * T)};
+    return 1.0 - smoothstep(t, w.stop_s - T, T);
   }
   return Jet::constant(0.0);
 }

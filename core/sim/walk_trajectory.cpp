@@ -9,7 +9,7 @@ namespace luxloc::sim {
 
 WalkTrajectory::WalkTrajectory(const WalkOptions& options)
     : opt_(options), path_(options.waypoints, options.corner_sigma_m), gait_(options.walking, options.gait) {
-  double prev_end = -std::numeric_limits<double>::infinity(), distance = 0.0, walked = 0.0, sign = 1.0;
+  double prev_end = -std::numeric_limits<double>::infinity(), distance = 0.0, prev_D = 0.0, sign = 1.0;
   for (const TurnOnSpot& turn : opt_.turns) {
     const double end = turn.start_s + turn.duration_s;
     if (!(turn.duration_s > 0.0) || !(turn.start_s >= prev_end) || !std::isfinite(end))
@@ -17,13 +17,12 @@ WalkTrajectory::WalkTrajectory(const WalkOptions& options)
     for (const WalkInterval& w : opt_.walking)
       if (turn.start_s < w.stop_s && end > w.start_s)
         throw std::invalid_argument("WalkTrajectory: a turn on the spot must lie within a standing time");
-    // D is a function of G alone; the walk since the previous turn counts with its sign.
-    const double G = gait_.walked_time(turn.start_s).v;
-    distance += sign * (gait_.distance_in_walked_time(G).v - gait_.distance_in_walked_time(walked).v);
-    walked = G;
+    // D is a function of G alone (D(0) = 0); the walk since the previous turn counts with its sign.
+    const double D_k = gait_.distance_in_walked_time(gait_.walked_time(turn.start_s).v).v;
+    distance += sign * (D_k - prev_D);
+    prev_D = D_k;
     sign = -sign;
-    turn_walked_s_.push_back(G);
-    turn_distance_s_.push_back(distance);
+    turn_offset_s_.push_back(distance - sign * D_k);
     prev_end = end;
   }
 }
@@ -47,8 +46,7 @@ Jet WalkTrajectory::path_parameter(double t_s) const {
   while (k < opt_.turns.size() && opt_.turns[k].start_s <= t_s) ++k;
   if (k == 0) return opt_.start_u_m + g.speed_mps * Dt;
   const double sign = k % 2 == 0 ? 1.0 : -1.0;
-  const double D_k = gait_.distance_in_walked_time(turn_walked_s_[k - 1]).v;
-  return opt_.start_u_m + g.speed_mps * (turn_distance_s_[k - 1] - sign * D_k) + (g.speed_mps * sign) * Dt;
+  return opt_.start_u_m + g.speed_mps * turn_offset_s_[k - 1] + (g.speed_mps * sign) * Dt;
 }
 
 Jet WalkTrajectory::turned_yaw(double t_s) const {

@@ -53,9 +53,9 @@ class WalkTrajectory final : public Trajectory {
   WalkOptions opt_;
   SmoothPath path_;
   Gait gait_;
-  // Per turn k: the walked time G at it, and the path distance walked before it (nominal-
-  // speed seconds, signed: the walk reverses at every turn).
-  std::vector<double> turn_walked_s_, turn_distance_s_;
+  // After the k-th turn (k from 1): A_k - (-1)^k D(G_k), the constant of path_parameter
+  // (nominal-speed seconds; A_k the signed path distance walked up to the turn).
+  std::vector<double> turn_offset_s_;
 };
 
 }  // namespace luxloc::sim
