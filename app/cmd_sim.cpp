@@ -134,8 +134,9 @@ int run_sim(const SimArgs& a) {
     sim::WalkOptions walk = *scenario.walk;
     if (a.walker != "default") {
       options.walker = a.walker == "fast"     ? sim::draw_fast_walker(a.seed, duration)
-                       : a.walker == "steady" ? sim::draw_steady_walker(a.seed, duration)
-                                              : sim::draw_walker(a.seed, duration);
+                       : a.walker == "steady"  ? sim::draw_steady_walker(a.seed, duration)
+                       : a.walker == "turning" ? sim::draw_turning_walker(a.seed, duration)
+                                               : sim::draw_walker(a.seed, duration);
       walk = sim::apply_walker(walk, *options.walker);
     }
     walk.gait.heel_impact_mps2 = options.heel_impact_mps2 = a.heel_impact_g * sim::kGravity;
@@ -262,8 +263,10 @@ void add_sim_command(CLI::App& root, Action& action) {
   cmd->add_option("--walker", args->walker,
                   "the pedestrian: default (the scenario's), random (drawn from --seed: step length 0.35-0.85 m, "
                   "cadence 1.4-2.2 Hz, turns, bounce, sway, stops of 1-10 s, the pace drifting by up to +-24 %, "
-                  "turns round on the spot at some stops), steady (the same draw at its drawn pace, no turns on "
-                  "the spot) or fast (the steady draw at 1.7 m/s, 1.9-2.2 Hz); written to sim_truth.yaml")
+                  "turns round on the spot at some stops, side steps in half the walks, the device held up to "
+                  "0.4 m off the body's turning axis), turning (the same draw without side steps, the device on "
+                  "the axis), steady (turning at its drawn pace, no turns on the spot) or fast (the steady draw "
+                  "at 1.7 m/s, 1.9-2.2 Hz); written to sim_truth.yaml")
       ->check(CLI::IsMember(std::vector<std::string>(std::begin(sim::kWalkerNames), std::end(sim::kWalkerNames))))
       ->capture_default_str();
   cmd->add_option("--world", args->world,

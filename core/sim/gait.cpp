@@ -26,8 +26,9 @@ Gait::Gait(std::vector<WalkInterval> walking, const GaitOptions& options)
       throw std::invalid_argument("Gait: walking intervals overlap or are shorter than two ramps");
     prev_stop = w.stop_s;
   }
-  if (!opt_.pace_waves.empty())
-    drift_ = std::make_shared<const PaceDrift>(opt_.pace_waves, opt_.step_hz, opt_.speed_modulation, opt_.pace_horizon_s);
+  if (!opt_.pace_waves.empty() || !opt_.pace_dips.empty())
+    drift_ = std::make_shared<const PaceDrift>(opt_.pace_waves, opt_.step_hz, opt_.speed_modulation,
+                                               opt_.pace_horizon_s, opt_.pace_dips);
 }
 
 namespace {

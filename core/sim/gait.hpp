@@ -39,6 +39,9 @@ struct GaitOptions {
   // The pace drifting within the session (core/sim/pace_drift.hpp): the speed factor's slow
   // waves in walked time; none when empty (every scenario; `--walker random` draws them).
   std::vector<PaceWave> pace_waves;
+  // Slowdowns in walked time (side steps: WalkOptions::side_steps fills them), edges on
+  // multiples of PaceDrift::kPanel.
+  std::vector<PaceDip> pace_dips;
   double pace_horizon_s = 3600.0;  // walked time the drift's tables cover
 };
 

@@ -10,9 +10,7 @@ namespace luxloc::sim {
 namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
-// Table spacing in walked seconds: a fifth of the fastest step (2.2 Hz, +-25 % drift) at most
-// 1.7 rad of step phase per panel, where 8-point Gauss-Legendre is exact to ~1e-13.
-constexpr double kPanel = 0.1;
+constexpr double kPanel = PaceDrift::kPanel;
 
 // 8-point Gauss-Legendre on [-1, 1] (Abramowitz & Stegun 25.4.30).
 constexpr std::array<double, 4> kNode = {0.1834346424956498, 0.5255324099163290, 0.7966664774136267,
@@ -32,8 +30,12 @@ double gauss8(const F& f, double a, double b) {
 
 }  // namespace
 
-PaceDrift::PaceDrift(std::vector<PaceWave> waves, double f0, double m, double horizon_s)
-    : waves_(std::move(waves)), f0_(f0), m_(m), horizon_(horizon_s) {
+PaceDrift::PaceDrift(std::vector<PaceWave> waves, double f0, double m, double horizon_s, std::vector<PaceDip> dips)
+    : waves_(std::move(waves)), dips_(std::move(dips)), f0_(f0), m_(m), horizon_(horizon_s) {
+  for (const PaceDip& d : dips_)
+    if (!(d.depth >= 0.0 && d.depth < 1.0) || !(d.ramp_s > 0.0) || !(d.duration_s >= 2.0 * d.ramp_s) ||
+        !std::isfinite(d.start_s + d.duration_s))
+      throw std::invalid_argument("PaceDrift: a dip needs 0 <= depth < 1 and at least two ramps' duration");
   double total = 0.0;
   for (const PaceWave& w : waves_) {
     total += std::abs(w.amplitude);
@@ -60,6 +62,10 @@ Jet PaceDrift::speed_factor(double G) const {
   for (const PaceWave& w : waves_) {
     const double k = kTwoPi / w.period_s, s = std::sin(k * G + w.phase_rad), c = std::cos(k * G + w.phase_rad);
     q = q + Jet{w.amplitude * s, w.amplitude * k * c, -w.amplitude * k * k * s};
+  }
+  for (const PaceDip& d : dips_) {
+    const Jet plateau = smoothstep(G, d.start_s, d.ramp_s) - smoothstep(G, d.start_s + d.duration_s - d.ramp_s, d.ramp_s);
+    q = q * (1.0 - d.depth * plateau);
   }
   return q;
 }

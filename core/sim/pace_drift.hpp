@@ -26,12 +26,29 @@ struct PaceWave {
   double phase_rad = 0.0;  // psi_i
 };
 
+// A short slowdown (a few side steps, core/sim/walk_trajectory.hpp): q is multiplied by
+// 1 - depth P(G), P a plateau with C2 smoothstep edges of ramp_s, over [start_s, start_s + duration_s]
+// of walked time.
+struct PaceDip {
+  double start_s = 0.0;     // walked seconds
+  double duration_s = 2.0;  // including both ramps
+  double ramp_s = 0.5;
+  double depth = 0.5;  // fraction of the speed lost on the plateau, < 1
+};
+
 class PaceDrift {
  public:
+  // Table spacing in walked seconds: a fifth of the fastest step (2.2 Hz, +-25 % drift) at most
+  // 1.7 rad of step phase per panel, where 8-point Gauss-Legendre is exact to ~1e-13. A dip's
+  // edges lie on panel boundaries (Gait rounds them), so every panel integrates a polynomial
+  // of smoothstep pieces, never across a knot.
+  static constexpr double kPanel = 0.1;
+
   // `waves`: sum of |a_i| < 0.5 (the pace never halves); periods >= 5 s (slower than steps).
   // f0: nominal cadence (Hz); m: the per-step speed modulation (GaitOptions); horizon_s:
-  // the walked time the tables cover. Throws std::invalid_argument.
-  PaceDrift(std::vector<PaceWave> waves, double f0, double m, double horizon_s);
+  // the walked time the tables cover; `dips`: slowdowns, each 0 <= depth < 1 and at least
+  // two ramps long. Throws std::invalid_argument.
+  PaceDrift(std::vector<PaceWave> waves, double f0, double m, double horizon_s, std::vector<PaceDip> dips = {});
 
   Jet speed_factor(double G) const;    // q and its derivatives in G
   Jet cadence_factor(double G) const;  // c = sqrt q
@@ -40,10 +57,12 @@ class PaceDrift {
   Jet distance(double G) const;        // D(G), dD/dG, d2D/dG2
   double horizon_s() const { return horizon_; }
   const std::vector<PaceWave>& waves() const { return waves_; }
+  const std::vector<PaceDip>& dips() const { return dips_; }
 
  private:
   double distance_rate(double G) const;  // l c (1 + m cos 2 pi N(G))
   std::vector<PaceWave> waves_;
+  std::vector<PaceDip> dips_;
   double f0_ = 1.0, m_ = 0.0, horizon_ = 0.0;
   std::vector<double> steps_at_;     // N at k kPanel
   std::vector<double> distance_at_;  // D at k kPanel

@@ -173,7 +173,11 @@ void write_sim_truth(const Simulator& sim, const fs::path& p) {
     fs << "]" << "turns" << "[";
     for (const TurnOnSpot& t : w.turns)
       fs << "{:" << "start_s" << t.start_s << "duration_s" << t.duration_s << "yaw_deg" << (t.left ? 180 : -180) << "}";
-    fs << "]" << "}";
+    fs << "]" << "side_steps" << "[";
+    for (const SideStep& s : w.side_steps)
+      fs << "{:" << "start_s" << s.start_s << "duration_s" << s.duration_s << "turn_s" << s.ramp_s << "direction"
+         << (s.left ? "left" : "right") << "slowdown" << s.slowdown << "}";
+    fs << "]" << "lever_arm_m" << "[:" << w.lever_arm_m.x() << w.lever_arm_m.y() << "]" << "}";
   }
   if (o.world_plan) {
     const WorldPlan& w = *o.world_plan;

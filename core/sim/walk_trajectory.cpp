@@ -1,14 +1,63 @@
 #include "core/sim/walk_trajectory.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <limits>
 #include <stdexcept>
 
 namespace luxloc::sim {
+namespace {
+
+double round_to_panel(double x) { return std::round(x / PaceDrift::kPanel) * PaceDrift::kPanel; }
+
+// The side steps in walked time: edges on panel boundaries (PaceDrift::kPanel), so the pace
+// tables never integrate across a knot of the dips' smoothsteps. Throws for a side step
+// outside a walk's plateau.
+std::vector<PaceDip> plan_side_steps(const WalkOptions& o) {
+  std::vector<PaceDip> dips;
+  if (o.side_steps.empty()) return dips;
+  GaitOptions plain = o.gait;  // the envelope alone decides G(t)
+  plain.pace_waves.clear();
+  plain.pace_dips.clear();
+  const Gait envelope(o.walking, plain);
+  const double T = o.gait.ramp_s;
+  double prev_end = -std::numeric_limits<double>::infinity();
+  for (const SideStep& side : o.side_steps) {
+    const double end = side.start_s + side.duration_s;
+    bool inside = false;
+    for (const WalkInterval& w : o.walking) inside = inside || (side.start_s >= w.start_s + T && end <= w.stop_s - T);
+    if (!inside || !(side.start_s >= prev_end) || !(side.ramp_s > 0.0) || !(side.duration_s >= 2.0 * side.ramp_s) ||
+        !(side.slowdown >= 0.0 && side.slowdown < 1.0))
+      throw std::invalid_argument("WalkTrajectory: side steps must be sorted, apart, within a walk's plateau, "
+                                  "at least two turns long, slowing by less than the whole speed");
+    PaceDip d;
+    d.start_s = round_to_panel(envelope.walked_time(side.start_s).v);
+    d.ramp_s = std::max(PaceDrift::kPanel, round_to_panel(side.ramp_s));
+    d.duration_s = std::max(2.0 * d.ramp_s, round_to_panel(side.duration_s));
+    d.depth = side.slowdown;
+    dips.push_back(d);
+    prev_end = end;
+  }
+  return dips;
+}
+
+GaitOptions with_side_steps(const WalkOptions& o, const std::vector<PaceDip>& dips) {
+  GaitOptions g = o.gait;
+  g.pace_dips.insert(g.pace_dips.end(), dips.begin(), dips.end());
+  return g;
+}
+
+}  // namespace
 
 WalkTrajectory::WalkTrajectory(const WalkOptions& options)
-    : opt_(options), path_(options.waypoints, options.corner_sigma_m), gait_(options.walking, options.gait) {
+    : WalkTrajectory(options, plan_side_steps(options)) {}
+
+WalkTrajectory::WalkTrajectory(const WalkOptions& options, std::vector<PaceDip> side_steps_G)
+    : opt_(options),
+      path_(options.waypoints, options.corner_sigma_m),
+      gait_(options.walking, with_side_steps(options, side_steps_G)),
+      side_steps_G_(std::move(side_steps_G)) {
   double prev_end = -std::numeric_limits<double>::infinity(), distance = 0.0, prev_D = 0.0, sign = 1.0;
   for (const TurnOnSpot& turn : opt_.turns) {
     const double end = turn.start_s + turn.duration_s;
@@ -71,14 +120,30 @@ Jet WalkTrajectory::heel_impact(double t_s) const {
   return {-a * w * w * e, a * tau * e, a * (1.0 - tau * tau / (w * w)) * e};
 }
 
+// Each side step's plateau P(G) (smoothstep edges in walked time) turns the body by -+pi/2
+// against the path; composed with G(t) by the chain rule (G' = 1, G'' = 0 on a walk's plateau,
+// where side steps lie, but exact anywhere).
+Jet WalkTrajectory::side_step_yaw(double t_s) const {
+  if (side_steps_G_.empty()) return Jet::constant(0.0);
+  const Jet G = gait_.walked_time(t_s);
+  Jet yaw = Jet::constant(0.0);
+  for (std::size_t i = 0; i < side_steps_G_.size(); ++i) {
+    const PaceDip& d = side_steps_G_[i];
+    const Jet p = smoothstep(G.v, d.start_s, d.ramp_s) - smoothstep(G.v, d.start_s + d.duration_s - d.ramp_s, d.ramp_s);
+    const double turn = opt_.side_steps[i].left ? -0.5 * std::numbers::pi : 0.5 * std::numbers::pi;
+    yaw = yaw + turn * Jet{p.v, p.d * G.d, p.dd * G.d * G.d + p.d * G.dd};
+  }
+  return yaw;
+}
+
 BodyState WalkTrajectory::state(double t_s) const {
   const GaitOptions& g = opt_.gait;
   const Jet u = path_parameter(t_s);
   const PathPoint pp = path_.at(u.v);
   // Chain rule through the path: c(u(t))' = c1 u', c(u(t))'' = c2 u'^2 + c1 u''.
   auto along = [&u](double f0, double f1, double f2) { return Jet{f0, f1 * u.d, f2 * u.d * u.d + f1 * u.dd}; };
-  const Jet x = along(pp.c.x(), pp.c1.x(), pp.c2.x());
-  const Jet y = along(pp.c.y(), pp.c1.y(), pp.c2.y());
+  Jet x = along(pp.c.x(), pp.c1.x(), pp.c2.x());
+  Jet y = along(pp.c.y(), pp.c1.y(), pp.c2.y());
   // Heading of the path tangent (defined while standing too, unlike the velocity's).
   const Jet heading = atan2(along(pp.c1.y(), pp.c2.y(), pp.c3.y()), along(pp.c1.x(), pp.c2.x(), pp.c3.x()));
 
@@ -92,6 +157,15 @@ BodyState WalkTrajectory::state(double t_s) const {
   const Jet pitch = g.pitch_sway_rad * (env * sin(phi));
   Jet yaw = heading + g.yaw_sway_rad * (env * cos(half));
   if (!opt_.turns.empty()) yaw = yaw + turned_yaw(t_s);
+  if (!side_steps_G_.empty()) yaw = yaw + side_step_yaw(t_s);
+  // The device off the turning axis: p = p_axis + Rz(yaw) l (the lever turns with the body's
+  // yaw, sway included; roll and pitch sway turn the device about its own centre).
+  if (opt_.lever_arm_m.squaredNorm() > 0.0) {
+    const Jet c = cos(yaw), s = sin(yaw);
+    const double f = opt_.lever_arm_m.x(), l = opt_.lever_arm_m.y();
+    x = x + (f * c - l * s);
+    y = y + (f * s + l * c);
+  }
 
   BodyState s;
   s.t = t_s;

@@ -70,11 +70,33 @@ WalkerDraw draw_walker(std::uint64_t seed, double duration_s) {
     if (standing >= 2.5 && p < 1.0 / 3.0)
       w.turns.push_back({w.walking[i].stop_s + 0.5 * (standing - duration), duration, left < 0.5});
   }
+  // Drawn after the turns (stop 29), so the sessions keep their walks, drift and turns.
+  // Side steps in half the walks: 2-4 s (3-8 steps at 1.4-2.2 Hz), the body turning 90 deg in
+  // 0.6-1.0 s (150-250 deg/s at the peak, a quick but ordinary turn of the shoulders), the pace
+  // down by 30-60 % (people step sideways at 0.5-0.9 m/s), 1 s clear of the walk's ramps.
+  const double ramp = GaitOptions{}.ramp_s;
+  for (const WalkInterval& walk : w.walking) {
+    const double from = walk.start_s + ramp + 1.0, to = std::min(walk.stop_s, duration_s) - ramp - 1.0;
+    const double p = uniform(0.0, 1.0), duration = uniform(2.0, 4.0), where = uniform(0.0, 1.0);
+    const double turn = uniform(0.6, 1.0), left = uniform(0.0, 1.0), slowdown = uniform(0.3, 0.6);
+    if (p < 0.5 && to - from >= duration)
+      w.side_steps.push_back({from + where * (to - from - duration), duration, turn, left < 0.5, slowdown});
+  }
+  // Where the device is held: 0-0.4 m in front of the turning axis (a trouser pocket to a
+  // phone held out in front), up to 0.2 m to either side.
+  w.lever_arm_m = {uniform(0.0, 0.4), uniform(-0.2, 0.2)};
+  return w;
+}
+
+WalkerDraw draw_turning_walker(std::uint64_t seed, double duration_s) {
+  WalkerDraw w = draw_walker(seed, duration_s);
+  w.side_steps.clear();
+  w.lever_arm_m.setZero();
   return w;
 }
 
 WalkerDraw draw_steady_walker(std::uint64_t seed, double duration_s) {
-  WalkerDraw w = draw_walker(seed, duration_s);
+  WalkerDraw w = draw_turning_walker(seed, duration_s);
   w.pace_waves.clear();
   w.turns.clear();
   return w;
@@ -96,6 +118,8 @@ WalkOptions apply_walker(WalkOptions base, const WalkerDraw& w) {
   base.corner_sigma_m = w.corner_sigma_m;
   base.walking = w.walking;
   base.turns = w.turns;
+  base.side_steps = w.side_steps;
+  base.lever_arm_m = w.lever_arm_m;
   GaitOptions& g = base.gait;
   g.speed_mps = w.speed_mps;
   g.step_hz = w.step_hz;

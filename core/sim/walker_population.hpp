@@ -11,8 +11,10 @@
 //   waves of the speed, 30-90 s and 90-240 s of walking, 0-12 % each, peaks capped at 2 m/s;
 //   cadence and step length share it, core/sim/pace_drift.hpp), and a turn round on the spot
 //   (1-2 s) at a third of the stops that leave >= 2.5 s of standing, the walk going on back
-//   the way it came.
-// Not drawn (yet): side steps, a device swinging in the hand.
+//   the way it came; side steps (2-4 s, the body 90 deg off the path, slowed by 30-60 %) in
+//   half the walks, and the device held 0-0.4 m in front of the body's turning axis and up to
+//   0.2 m to a side (a phone in the hand, a trouser pocket), so turns carry it round.
+// Not drawn (yet): a device swinging in the hand (an arm's pendulum).
 #include <cstdint>
 #include <vector>
 
@@ -32,16 +34,23 @@ struct WalkerDraw {
   std::vector<PaceWave> pace_waves;  // the speed's drift (none for the fast walker)
   double pace_horizon_s = 3600.0;    // the walked time the drift must cover
   std::vector<TurnOnSpot> turns;     // turns round on the spot (none for the fast walker)
+  std::vector<SideStep> side_steps;  // side steps (none for the steady and fast walkers)
+  Eigen::Vector2d lever_arm_m = Eigen::Vector2d::Zero();  // forward, left of the turning axis
 };
 
-inline constexpr const char* kWalkerNames[] = {"default", "random", "steady", "fast"};
+inline constexpr const char* kWalkerNames[] = {"default", "random", "steady", "fast", "turning"};
 
 // The walker of session `seed` over `duration_s` (the first 2 s standing, as every walk).
 WalkerDraw draw_walker(std::uint64_t seed, double duration_s);
-// The walker of draw_walker(seed) held at its drawn pace, turning only with the path: the
-// population before the drift and the turns on the spot were drawn (stop 28), kept so that a
-// test can hold one diagnosed situation of those sessions.
+// The walker of draw_walker(seed) held at its drawn pace, turning only with the path, the
+// device on the turning axis: the population before the drift, the turns on the spot, the
+// side steps and the lever arm were drawn (stop 28, 29), kept so that a test can hold one
+// diagnosed situation of those sessions.
 WalkerDraw draw_steady_walker(std::uint64_t seed, double duration_s);
+// The walker of draw_walker(seed) as it was drawn at stop 28: drifting and turning round on
+// the spot, without side steps and with the device on the turning axis (tests pinned to a
+// situation of those sessions).
+WalkerDraw draw_turning_walker(std::uint64_t seed, double duration_s);
 // A fast walker (issue 12: "fast walking (1.7 m/s, 12 g peaks) keeps its step length"): the
 // walker of draw_walker(seed) at 1.7 m/s, cadence 1.9-2.2 Hz (steps of 0.77-0.89 m), its
 // bounce grown with the step by the same rule; held at that pace (no drift) and turning only

@@ -88,10 +88,11 @@ TEST_CASE("A UWB run whose first range is NLOS does not start there: it waits fo
   // Tuning seed 47 of the walker population: the session's first range reads 2.2 m long
   // (nlos = 1 in uwb.csv). Started at that fix, the filter sat 2.7 m off for 4 s (ATE 0.52 m,
   // max 2.9 m). UwbOptions::start_agreeing_fixes holds the start until 3 fixes agree.
+  // (`--walker turning`: that population, before side steps were drawn at stop 29.)
   const auto dir = test::scratch_dir("e2e_uwb_nlos_start");
   const auto session = dir / "uwb";
   const auto sim = run_luxloc("sim --out '" + session.string() +
-                              "' --scenario uwb --seed 47 --walker random --imu-grade consumer");
+                              "' --scenario uwb --seed 47 --walker turning --imu-grade consumer");
   REQUIRE(sim.exit_code == 0);
   CsvReader uwb((session / "uwb.csv").string());
   const int c_nlos = uwb.require_column("nlos");

@@ -168,3 +168,65 @@ TEST_CASE("A drifting pace and a turn round on the spot: exact derivatives, the 
                   }()),
                   std::invalid_argument);
 }
+
+TEST_CASE("Side steps and a device off the turning axis: exact derivatives, moving 90 deg off the heading",
+          "[sim][pace]") {
+  const Scenario sc = make_scenario("walk");
+  REQUIRE(sc.walk);
+  WalkOptions o = *sc.walk;
+  o.walking = {{2.0, 30.0}, {35.0, std::numeric_limits<double>::infinity()}};
+  o.turns = {{31.5, 1.5, true}};
+  o.gait.pace_waves = {{0.12, 30.0, 0.0}};
+  o.gait.pace_horizon_s = 100.0;
+  o.side_steps = {{10.03, 3.04, 0.8, true, 0.5}, {40.0, 2.5, 0.6, false, 0.3}};
+  o.lever_arm_m = {0.3, -0.1};
+  const WalkTrajectory tr(o);
+  // Exact through the side steps' turns and the dips' edges (on panel boundaries).
+  for (double t = 0.5; t < 60.0; t += 0.0917) check_derivatives(tr, t);
+  const std::vector<PaceDip>& dips = tr.side_steps_in_walked_time();
+  REQUIRE(dips.size() == 2);
+  for (const PaceDip& d : dips)
+    for (double edge : {d.start_s, d.ramp_s, d.duration_s})
+      CHECK(std::abs(std::remainder(edge, PaceDrift::kPanel)) < 1e-9);
+  // On the first plateau (walked time = t - 2.5 on the first walk's plateau) the walker moves
+  // to their left: the turning axis's velocity points 90 deg left of the heading (the device's
+  // adds the lever arm turning with the path's corners).
+  WalkOptions plain = o, on_axis = o;
+  plain.side_steps.clear();
+  plain.lever_arm_m.setZero();
+  on_axis.lever_arm_m.setZero();
+  const WalkTrajectory reference(plain), axis(on_axis);
+  for (double t = 10.8; t < 12.2; t += 0.1) {
+    INFO("t " << t);
+    const BodyState s = axis.state(t);
+    const double dir = std::atan2(s.v_BinW.y(), s.v_BinW.x());
+    CHECK(std::remainder(dir - s.yaw, 2 * std::numbers::pi) == Approx(std::numbers::pi / 2).margin(0.1));
+  }
+  // Right on the second: the heading 90 deg left of the motion.
+  const BodyState r = axis.state(41.25);
+  CHECK(std::remainder(std::atan2(r.v_BinW.y(), r.v_BinW.x()) - r.yaw, 2 * std::numbers::pi) ==
+        Approx(-std::numbers::pi / 2).margin(0.1));
+  // The side step slows the walk: over it the walker covers less path than without it.
+  auto walked = [](const WalkTrajectory& w, double a, double b) {
+    return w.path_parameter(b).v - w.path_parameter(a).v;
+  };
+  CHECK(walked(tr, 10.0, 13.1) < 0.75 * walked(reference, 10.0, 13.1));
+  CHECK(walked(tr, 10.0, 13.1) > 0.5 * walked(reference, 10.0, 13.1));
+  // Before the first side step the walk is that of the walker without them, the device 0.3 m
+  // in front and 0.1 m to the right of the axis.
+  const BodyState a = tr.state(8.0), b = reference.state(8.0);
+  const Eigen::Vector2d lever = Eigen::Rotation2Dd(b.yaw) * Eigen::Vector2d(0.3, -0.1);
+  CHECK((a.p_BinW.head<2>() - b.p_BinW.head<2>() - lever).norm() < 1e-9);
+  // The turn round on the spot carries the device along a half circle: it ends 2 x 0.32 m
+  // from where it started, on the other side of the axis, and moved meanwhile.
+  const BodyState before = tr.state(31.0), after = tr.state(33.5), mid = tr.state(32.25);
+  CHECK((after.p_BinW - before.p_BinW).norm() == Approx(2.0 * std::hypot(0.3, 0.1)).margin(1e-3));
+  CHECK(mid.v_BinW.head<2>().norm() > 0.5);
+  // Side steps outside a walk's plateau are refused.
+  CHECK_THROWS_AS(WalkTrajectory([&] {
+                    WalkOptions bad = o;
+                    bad.side_steps = {{28.0, 2.5, 0.6, true, 0.5}};  // into the stop's ramp
+                    return bad;
+                  }()),
+                  std::invalid_argument);
+}

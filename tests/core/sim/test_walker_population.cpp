@@ -147,3 +147,36 @@ TEST_CASE("draw_walker: the pace drifts within the walk, turns round on the spot
   CHECK(sessions_with_turns > 100);
   CHECK(draw_fast_walker(3, 90.0).pace_waves.empty());
 }
+
+TEST_CASE("draw_walker: side steps in half the walks, the device held off the turning axis", "[sim][walker]") {
+  int walks = 0, side_steps = 0;
+  for (std::uint64_t seed = 1; seed <= 200; ++seed) {
+    const WalkerDraw w = draw_walker(seed, 300.0), turning = draw_turning_walker(seed, 300.0);
+    INFO("seed " << seed);
+    walks += static_cast<int>(w.walking.size());
+    side_steps += static_cast<int>(w.side_steps.size());
+    for (const SideStep& s : w.side_steps) {
+      CHECK(s.duration_s >= 2.0);
+      CHECK(s.duration_s <= 4.0);
+      CHECK(s.ramp_s >= 0.6);
+      CHECK(s.ramp_s <= 1.0);
+      CHECK(s.slowdown >= 0.3);
+      CHECK(s.slowdown <= 0.6);
+    }
+    CHECK(w.lever_arm_m.x() >= 0.0);
+    CHECK(w.lever_arm_m.x() <= 0.4);
+    CHECK(std::abs(w.lever_arm_m.y()) <= 0.2);
+    // The turning walker is the stop-28 draw: the same walks, drift and turns, without them.
+    CHECK(turning.side_steps.empty());
+    CHECK(turning.lever_arm_m.isZero());
+    CHECK(turning.turns.size() == w.turns.size());
+    CHECK(turning.pace_waves[0].amplitude == w.pace_waves[0].amplitude);
+    CHECK(draw_steady_walker(seed, 300.0).side_steps.empty());
+    const Scenario s = make_scenario("walk");
+    if (seed <= 5) CHECK_NOTHROW(WalkTrajectory(apply_walker(*s.walk, w)).state(299.0));
+  }
+  // Half the walks long enough take side steps (most walks are: 10-30 s).
+  CHECK(side_steps > walks / 3);
+  CHECK(side_steps < walks * 6 / 10);
+}
+
