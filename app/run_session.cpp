@@ -248,6 +248,9 @@ void add_run_options(CLI::App* sub, RunConfig& cfg) {
   sub->add_flag("--no-impact-filter", cfg.no_impact_filter,
                 "pdr: keep heel-strike impacts in the vertical acceleration the steps are found in "
                 "(core/imu/impact_filter.hpp; for comparisons)");
+  sub->add_flag("--no-lever-arm", cfg.no_lever_arm,
+                "pdr: do not learn where the device is held from the body's turning axis (turns on the spot; "
+                "core/imu/lever_arm.hpp, docs/MOTION.md \"Lever arm\"; for comparisons)");
   sub->add_flag("--no-frame-derotation", cfg.no_frame_derotation,
                 "read every frame with the attitude of the IMU sample after it, all rows alike (no turning back "
                 "to the exposure; docs/MOTION.md \"Frames read at their exposure\"; for comparisons)");
@@ -541,6 +544,7 @@ RunOutcome run_session(const RunConfig& cfg, std::ostream& log) {
   if (cfg.no_gait_regression) c.fusion.gait_regression.enabled = false;
   if (cfg.no_impact_filter) c.fusion.motion.pdr.impacts.max_jump_mps2 = 0.0;
   if (cfg.no_heading_decouple) c.fusion.decouple_heading_after_outage = false;
+  if (cfg.no_lever_arm) c.fusion.motion.lever_arm = false;
   if (cfg.no_frame_derotation) {
     c.fusion.max_attitude_backdate_s = 0.0;
     c.fusion.derotate_rows = false;
@@ -720,6 +724,9 @@ void print_report(const RunOutcome& r, std::ostream& log) {
     if (f.turning_in_place_s > 0.0)
       log << ", held in place while turning on the spot " << std::setprecision(1) << f.turning_in_place_s << " s"
           << std::setprecision(2);
+    if (f.lever_turns > 0)
+      log << ", device held " << std::setprecision(2) << f.lever_forward_m << " m forward, " << f.lever_left_m
+          << " m left of the turning axis (from " << f.lever_turns << " turn(s) on the spot)";
     if (f.impact_samples) log << ", " << f.impact_samples << " samples of heel-strike impacts replaced";
     if (std::isfinite(f.gait_scale))
       log << ", gait calibrated to step-length scale " << std::setprecision(3) << f.gait_scale

@@ -32,6 +32,7 @@ struct RunConfig {
   bool no_gait_regression = false;  // run --no-gait-regression (FusionOptions::gait_regression)
   bool no_impact_filter = false;    // run --no-impact-filter (PdrOptions::impacts off)
   bool no_heading_decouple = false;  // run --no-heading-decouple (FusionOptions::decouple_heading_after_outage)
+  bool no_lever_arm = false;  // run --no-lever-arm (MotionSourceOptions::lever_arm)
   bool no_frame_derotation = false;  // run --no-frame-derotation (FusionOptions::max_attitude_backdate_s, derotate_rows)
   std::string uwb_height = "auto", uwb_bias = "auto";  // auto | on | off (issue 16: learnt while running)
   std::string uwb_scale = "off";  // on | off: a per-anchor range scale beside the learnt bias

@@ -63,6 +63,7 @@ void EkfFilter::predict_gait(const MotionInput& u) {
 
 void EkfFilter::predict(const MotionInput& u) {
   if (!initialized_ || !(u.dt > 0.0) || !std::isfinite(u.dt)) return;
+  if (u.shift_inW.allFinite()) x_.head<2>() += u.shift_inW;
   if (u.has_gait) {
     const GaitInput& g = u.gait;
     if (std::isfinite(g.speed_mps) && std::isfinite(g.heading_rad) && std::isfinite(g.length_sigma_m) &&

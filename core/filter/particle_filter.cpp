@@ -491,6 +491,8 @@ void ParticleFilter::decouple_heading(bool with_gait_offset) {
 
 void ParticleFilter::predict(const MotionInput& u) {
   if (!initialized_ || !(u.dt > 0.0) || !std::isfinite(u.dt)) return;
+  // Every particle moves alike: the origin they are kept relative to does.
+  if (u.shift_inW.allFinite()) origin_ += u.shift_inW;
   if (u.has_gait) {
     const GaitInput& g = u.gait;
     if (std::isfinite(g.speed_mps) && std::isfinite(g.heading_rad) && std::isfinite(g.length_sigma_m) &&

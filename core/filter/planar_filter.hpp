@@ -53,6 +53,10 @@ struct MotionInput {
   // of walking without bound (HeadingNoise::bounded_rad, walker_bounded_rad;
   // FusionEngine::predict_to picks one). 0: a random walk.
   double heading_bound_rad = 0.0;
+  // A displacement every hypothesis takes alike (m, world): the device swinging round its
+  // holder's turning axis as the heading changes (core/imu/lever_arm.hpp), on top of the
+  // body's motion above.
+  Eigen::Vector2d shift_inW = Eigen::Vector2d::Zero();
 };
 
 // An absolute 2-D position measurement (a VLC fix, a UWB position, fixes.csv).

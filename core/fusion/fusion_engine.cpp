@@ -191,6 +191,12 @@ void FusionEngine::finish(std::vector<PoseEstimate>& out) {
   stats_.impact_samples = motion_.impact_samples();
   stats_.regime_s = motion_.regime_seconds();
   stats_.turning_in_place_s = motion_.turning_in_place_s();
+  if (const auto& l = motion_.lever_arm().lever()) {
+    stats_.lever_forward_m = l->x();
+    stats_.lever_left_m = l->y();
+  }
+  stats_.lever_turns = motion_.lever_arm().turns_used();
+  stats_.lever_turns_refused = motion_.lever_arm().turns_refused();
   uwb_->summarize_online();
   if (pf_) {
     if (const ParticleFilter::GaitEstimate g = pf_->gait_estimate(); g.valid) {

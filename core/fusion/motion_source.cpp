@@ -20,7 +20,8 @@ MotionSource::MotionSource(const MotionSourceOptions& options)
       pdr_(options.pdr),
       gait_(options.gait, options.pdr.detector.min_interval_s),
       still_(options.still),
-      gate_(options.gate) {}
+      gate_(options.gate),
+      lever_(options.lever) {}
 
 void MotionSource::update(const ImuSample& s, const Eigen::Matrix3d& R_BtoW) {
   if (!s.acc_inB.allFinite() || !R_BtoW.allFinite()) return;
@@ -37,6 +38,12 @@ void MotionSource::update(const ImuSample& s, const Eigen::Matrix3d& R_BtoW) {
   // Yaw rate: the body rate about the world vertical.
   const double yaw_rate = (R_BtoW * s.gyro_inB).z();
   yaw_rate_ = yaw_rate;
+  device_yaw_ = std::atan2(R_BtoW(1, 0), R_BtoW(0, 0));
+  // Turns on the spot teach the lever arm: a walker (steps seen, the gait confirmed) standing.
+  if (options_.lever_arm && steps_used_ > 0 && gait_confirmed() && !gait_.stepping() && !gait_.walking())
+    lever_.update_standing(s.t, device_yaw_, yaw_rate, a_inW.head<2>());
+  else
+    lever_.interrupt();
   // The vertical acceleration the step detector saw (heel-strike impacts replaced).
   gait_.update(s.t, pdr_.vertical_mps2(), a_along, yaw_rate);
   while (const std::optional<Step> step = pdr_.pop_step()) {
@@ -60,6 +67,11 @@ void MotionSource::update(const ImuSample& s, const Eigen::Matrix3d& R_BtoW) {
 MotionInput MotionSource::input(TimeNs t0, TimeNs t1) {
   MotionInput u = input_for(t0, t1);
   if (valid_ && u.dt > 0.0) regime_s_[static_cast<std::size_t>(regime_)] += u.dt;
+  // The device swings round the body's axis as the heading turns (walking or standing; the
+  // strapdown regime integrates the device's own acceleration, which holds it already).
+  if (valid_ && lever_.lever() && input_yaw_ && (regime_ == MotionRegime::gait || regime_ == MotionRegime::still))
+    u.shift_inW = lever_.offset_inW(device_yaw_) - lever_.offset_inW(*input_yaw_);
+  if (valid_) input_yaw_ = device_yaw_;
   return u;
 }
 
@@ -81,7 +93,9 @@ MotionInput MotionSource::input_for(TimeNs t0, TimeNs t1) {
       if (stepping) t_last_stepping_ = t1;
       // Strapdown between steps: bouncing before the first step of a walk is detected, or
       // moving without a bounce (not just after a walk: the walker is stopping then).
-      const bool turning_in_place = options_.hold_turning_in_place && !still_.still() && still_.force_steady() &&
+      // Held too when the lever arm is known and the device swings round it: the shift moves it.
+      const bool turning_in_place = options_.hold_turning_in_place && !still_.still() &&
+                                    (still_.force_steady() || (lever_.lever() && lever_.turning())) &&
                                     steps_used_ > 0 && gait_confirmed();
       const bool moving = gait_.walking() || (!still_.still() && !turning_in_place &&
                                               ns_to_seconds(t1 - t_last_stepping_) > options_.settle_s);

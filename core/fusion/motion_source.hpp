@@ -14,12 +14,14 @@
 #include <array>
 #include <vector>
 #include <limits>
+#include <optional>
 
 #include "core/filter/motion_model.hpp"
 #include "core/filter/planar_filter.hpp"
 #include "core/imu/gait_gate.hpp"
 #include "core/imu/gait_speed.hpp"
 #include "core/imu/pdr.hpp"
+#include "core/imu/lever_arm.hpp"
 #include "core/imu/still_detector.hpp"
 
 namespace luxloc {
@@ -66,6 +68,16 @@ struct MotionSourceOptions {
   // zero velocity while still, and nothing can walk away on vibration.
   bool gait_gate = false;
   GaitGateOptions gate;
+  // A walker's device held off the body's turning axis (issue 12 part 1: `sim --walker
+  // random` draws 0-0.4 m forward, up to 0.2 m aside) swings round every turn: a turn round
+  // on the spot carries it along a half circle (up to 0.9 m), a corner along a wider or
+  // narrower arc than the steps walk. The lever arm is learnt from turns on the spot
+  // (LeverArm: no steps, no bounce, a walker seen before); once learnt, the gait and the
+  // standing walker move the device by (R(psi1) - R(psi0)) l as the heading turns, and a turn
+  // on the spot is held in place with it instead of integrated by strapdown. false: not
+  // learnt (every hypothesis moves with the body alone).
+  bool lever_arm = true;
+  LeverArmOptions lever;
 };
 
 // What the last input was (pdr: which of its three regimes).
@@ -94,6 +106,7 @@ class MotionSource {
   bool gait_confirmed() const { return !options_.gait_gate || gate_.confirmed(); }
   // Seconds the position was held while the IMU turned (hold_turning_in_place).
   double turning_in_place_s() const { return turning_in_place_s_; }
+  const LeverArm& lever_arm() const { return lever_; }
 
  private:
   MotionInput input_for(TimeNs t0, TimeNs t1);
@@ -103,6 +116,7 @@ class MotionSource {
   GaitSpeed gait_;
   StillDetector still_;
   GaitGate gate_;
+  LeverArm lever_;
   std::vector<Step> held_;  // steps before the gate's verdict (replayed when it confirms)
   std::array<double, 4> regime_s_{};
   double turning_in_place_s_ = 0.0;
@@ -113,6 +127,8 @@ class MotionSource {
   Eigen::Vector2d acc_inW_ = Eigen::Vector2d::Zero();
   double heading_rad_ = 0.0;
   double yaw_rate_ = 0.0;  // rad/s about the world vertical, last sample
+  double device_yaw_ = 0.0;  // device yaw at the last sample (rad)
+  std::optional<double> input_yaw_;  // device yaw at the last input() (the lever's shift)
 };
 
 }  // namespace luxloc
