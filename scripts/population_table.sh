@@ -22,7 +22,8 @@
 #              all lights off to the end (60 s): end error as % of the distance walked in the dark
 # (calib, fixes, webcam and world are not run by default: CASES="vlc blackout uwb pdr calib fixes
 # webcam world" runs them all)
-# WALKER=fast walks the fast walker instead (1.7 m/s, `sim --walker fast`); SIM_ARGS adds
+# WALKER=fast walks the fast walker instead (1.7 m/s, `sim --walker fast`), WALKER=turning the
+# stop-28 population (no side steps, the device on the turning axis); SIM_ARGS adds
 # simulator arguments to every session (e.g. SIM_ARGS="--heel-impact 11": 12 g heel strikes).
 # JOBS=N runs N sessions at a time (the figures do not depend on it; N = cores).
 # ROWS=FILE appends each session's figures to FILE (case, seed, ATE, p95, max, within 95 %, yaw
