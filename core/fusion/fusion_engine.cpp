@@ -196,7 +196,6 @@ void FusionEngine::finish(std::vector<PoseEstimate>& out) {
     stats_.lever_left_m = l->y();
   }
   stats_.lever_turns = motion_.lever_arm().turns_used();
-  stats_.lever_turns_refused = motion_.lever_arm().turns_refused();
   uwb_->summarize_online();
   if (pf_) {
     if (const ParticleFilter::GaitEstimate g = pf_->gait_estimate(); g.valid) {

@@ -37,11 +37,11 @@ struct FusionStats {
   // Vertical-acceleration samples of heel-strike impacts replaced (core/imu/impact_filter.hpp).
   std::uint64_t impact_samples = 0;
   std::array<double, 4> regime_s{};
-  double turning_in_place_s = 0.0;
+  double turning_in_place_s = 0.0;  // position held while the IMU turned (MotionSourceOptions::hold_turning_in_place)
   // The lever arm learnt from turns on the spot (MotionSourceOptions::lever_arm): forward,
-  // left (m; NaN until a turn gave it) and the turns used / refused.
+  // left (m; NaN until a turn gave it) and the turns it came from.
   double lever_forward_m = std::numeric_limits<double>::quiet_NaN(), lever_left_m = std::numeric_limits<double>::quiet_NaN();
-  int lever_turns = 0, lever_turns_refused = 0;  // position held while the IMU turned (MotionSourceOptions::hold_turning_in_place)
+  int lever_turns = 0;
   double gait_scale = std::numeric_limits<double>::quiet_NaN();
   double gait_heading_offset_rad = std::numeric_limits<double>::quiet_NaN();
   // Heading in the fusion (core/fusion/heading_feedback.hpp): transfers of the filter's yaw

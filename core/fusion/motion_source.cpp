@@ -33,12 +33,12 @@ void MotionSource::update(const ImuSample& s, const Eigen::Matrix3d& R_BtoW) {
   still_.update(s);
   pdr_.update(s, R_BtoW);
   // Heading alpha from the attitude now (the step's own mean heading comes a step late).
-  heading_rad_ = std::atan2(R_BtoW(1, 0), R_BtoW(0, 0)) + options_.pdr.heading_offset_rad;
+  device_yaw_ = std::atan2(R_BtoW(1, 0), R_BtoW(0, 0));
+  heading_rad_ = device_yaw_ + options_.pdr.heading_offset_rad;
   const double a_along = a_inW.x() * std::cos(heading_rad_) + a_inW.y() * std::sin(heading_rad_);
   // Yaw rate: the body rate about the world vertical.
   const double yaw_rate = (R_BtoW * s.gyro_inB).z();
   yaw_rate_ = yaw_rate;
-  device_yaw_ = std::atan2(R_BtoW(1, 0), R_BtoW(0, 0));
   // Turns on the spot teach the lever arm: a walker (steps seen, the gait confirmed) standing.
   if (options_.lever_arm && steps_used_ > 0 && gait_confirmed() && !gait_.stepping() && !gait_.walking())
     lever_.update_standing(s.t, device_yaw_, yaw_rate, a_inW.head<2>());

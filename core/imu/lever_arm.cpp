@@ -1,15 +1,13 @@
 #include "core/imu/lever_arm.hpp"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 
 namespace luxloc {
 namespace {
 
-Eigen::Matrix2d rotation(double a) {
-  const double c = std::cos(a), s = std::sin(a);
-  return (Eigen::Matrix2d() << c, -s, s, c).finished();
-}
+Eigen::Matrix2d rotation(double a) { return Eigen::Rotation2Dd(a).toRotationMatrix(); }
 
 }  // namespace
 

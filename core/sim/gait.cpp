@@ -31,11 +31,6 @@ Gait::Gait(std::vector<WalkInterval> walking, const GaitOptions& options)
                                                opt_.pace_horizon_s, opt_.pace_dips);
 }
 
-namespace {
-// f(G(t)) from f's derivatives in G and the Jet G(t): (f o G)' = f' G', (f o G)'' = f'' G'^2 + f' G''.
-Jet compose(const Jet& f, const Jet& G) { return {f.v, f.d * G.d, f.dd * G.d * G.d + f.d * G.dd}; }
-}  // namespace
-
 Jet Gait::envelope(double t) const {
   const double T = opt_.ramp_s;
   for (const WalkInterval& w : walking_) {

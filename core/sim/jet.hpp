@@ -57,4 +57,12 @@ inline Jet smoothstep(double t, double t0, double duration) {
           60.0 * x * (1.0 - x) * (1.0 - 2.0 * x) / (duration * duration)};
 }
 
+// A C2 plateau: 0 before t0, up over ramp, 1, down over the last ramp of [t0, t0 + duration].
+inline Jet plateau(double t, double t0, double duration, double ramp) {
+  return smoothstep(t, t0, ramp) - smoothstep(t, t0 + duration - ramp, ramp);
+}
+
+// f(G(t)) from f's derivatives in G and the Jet G(t): (f o G)' = f' G', (f o G)'' = f'' G'^2 + f' G''.
+inline Jet compose(const Jet& f, const Jet& G) { return {f.v, f.d * G.d, f.dd * G.d * G.d + f.d * G.dd}; }
+
 }  // namespace luxloc::sim

@@ -63,10 +63,7 @@ Jet PaceDrift::speed_factor(double G) const {
     const double k = kTwoPi / w.period_s, s = std::sin(k * G + w.phase_rad), c = std::cos(k * G + w.phase_rad);
     q = q + Jet{w.amplitude * s, w.amplitude * k * c, -w.amplitude * k * k * s};
   }
-  for (const PaceDip& d : dips_) {
-    const Jet plateau = smoothstep(G, d.start_s, d.ramp_s) - smoothstep(G, d.start_s + d.duration_s - d.ramp_s, d.ramp_s);
-    q = q * (1.0 - d.depth * plateau);
-  }
+  for (const PaceDip& d : dips_) q = q * (1.0 - d.depth * plateau(G, d.start_s, d.duration_s, d.ramp_s));
   return q;
 }
 

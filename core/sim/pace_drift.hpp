@@ -57,7 +57,6 @@ class PaceDrift {
   Jet distance(double G) const;        // D(G), dD/dG, d2D/dG2
   double horizon_s() const { return horizon_; }
   const std::vector<PaceWave>& waves() const { return waves_; }
-  const std::vector<PaceDip>& dips() const { return dips_; }
 
  private:
   double distance_rate(double G) const;  // l c (1 + m cos 2 pi N(G))

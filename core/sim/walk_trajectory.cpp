@@ -89,8 +89,7 @@ Jet WalkTrajectory::path_parameter(double t_s) const {
            (g.speed_mps * g.speed_modulation / (2.0 * std::numbers::pi * g.step_hz)) * sin(phi);
   }
   const Jet G = gait_.walked_time(t_s);
-  const Jet D = gait_.distance_in_walked_time(G.v);
-  const Jet Dt{D.v, D.d * G.d, D.dd * G.d * G.d + D.d * G.dd};
+  const Jet Dt = compose(gait_.distance_in_walked_time(G.v), G);
   std::size_t k = 0;
   while (k < opt_.turns.size() && opt_.turns[k].start_s <= t_s) ++k;
   if (k == 0) return opt_.start_u_m + g.speed_mps * Dt;
@@ -129,9 +128,8 @@ Jet WalkTrajectory::side_step_yaw(double t_s) const {
   Jet yaw = Jet::constant(0.0);
   for (std::size_t i = 0; i < side_steps_G_.size(); ++i) {
     const PaceDip& d = side_steps_G_[i];
-    const Jet p = smoothstep(G.v, d.start_s, d.ramp_s) - smoothstep(G.v, d.start_s + d.duration_s - d.ramp_s, d.ramp_s);
     const double turn = opt_.side_steps[i].left ? -0.5 * std::numbers::pi : 0.5 * std::numbers::pi;
-    yaw = yaw + turn * Jet{p.v, p.d * G.d, p.dd * G.d * G.d + p.d * G.dd};
+    yaw = yaw + turn * compose(plateau(G.v, d.start_s, d.duration_s, d.ramp_s), G);
   }
   return yaw;
 }

@@ -30,7 +30,18 @@ struct SimulatedRun {
   std::vector<TruthRow> truth;
   std::vector<PoseRow> poses;
 };
-SimulatedRun simulate_and_run(const std::string& name, const std::string& sim_args, const std::string& run_args = "") {
+// `run RUN_ARGS` on r's session into DIR/POSES: r with that run's output and poses.
+SimulatedRun run_again(SimulatedRun r, const std::string& run_args, const std::string& poses = "poses.csv") {
+  const auto poses_csv = r.dir / poses;
+  const auto run =
+      run_luxloc("run --playback '" + r.session.string() + "' --out '" + poses_csv.string() + "' " + run_args);
+  INFO(run.output);
+  REQUIRE(run.exit_code == 0);
+  r.run_output = run.output;
+  r.poses = read_pose_file(poses_csv.string());
+  return r;
+}
+SimulatedRun simulate_and_run(const std::string& name, const std::string& sim_args) {
   SimulatedRun r;
   r.dir = test::scratch_dir(name);
   r.session = r.dir / "walk";
@@ -38,15 +49,8 @@ SimulatedRun simulate_and_run(const std::string& name, const std::string& sim_ar
   INFO(sim.output);
   REQUIRE(sim.exit_code == 0);
   r.sim_output = sim.output;
-  const auto poses_csv = r.dir / "poses.csv";
-  const auto run =
-      run_luxloc("run --playback '" + r.session.string() + "' --out '" + poses_csv.string() + "' " + run_args);
-  INFO(run.output);
-  REQUIRE(run.exit_code == 0);
-  r.run_output = run.output;
   r.truth = read_truth_csv((r.session / "groundtruth.csv").string());
-  r.poses = read_pose_file(poses_csv.string());
-  return r;
+  return run_again(std::move(r), "");
 }
 }  // namespace
 
@@ -238,8 +242,7 @@ TEST_CASE("sim --walker turning, a turn round on the spot in the dark: held in p
 TEST_CASE("sim --walker random, the device held off the turning axis: learnt on the spot, carried round the corners",
           "[e2e][walker][lever]") {
   const SimulatedRun on = simulate_and_run("walker_lever", "--walker random --seed 4 --imu-grade consumer --blackout 40:15");
-  const SimulatedRun off = simulate_and_run("walker_lever_off", "--walker random --seed 4 --imu-grade consumer --blackout 40:15",
-                                            "--no-lever-arm");
+  const SimulatedRun off = run_again(on, "--no-lever-arm", "poses_off.csv");
   CHECK_THAT(on.run_output, Catch::Contains("of the turning axis (from"));
   CHECK_THAT(off.run_output, !Catch::Contains("of the turning axis (from"));
   const auto dark = [](const SimulatedRun& r) { return evaluate(r.truth, poses_between(r.poses, 40.0, 55.0)); };
